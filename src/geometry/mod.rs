@@ -1,0 +1,1 @@
+//! geometry stage (see the crate docs for its place).

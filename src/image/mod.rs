@@ -1,0 +1,1 @@
+//! image stage (see the crate docs for its place).

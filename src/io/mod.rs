@@ -1,0 +1,1 @@
+//! io stage (see the crate docs for its place).

@@ -1,0 +1,32 @@
+//! filmsplat: spectral thin-film rendering of SPH particle clouds, straight from the particles.
+//!
+//! A soap film's colours come from thin-film interference. filmsplat ray-traces the particles of a
+//! thin-film simulation directly (as oriented disks or spheres) and shades each film crossing with
+//! the exact Airy reflectance of the particle's thickness.
+//!
+//! # Stages and who may import whom
+//! Data flows one way; a module imports only modules listed before it:
+//!
+//! | module | what | imports |
+//! |---|---|---|
+//! | [`optics`] | thin-film Fresnel/Airy reflectance, plain numbers | — |
+//! | [`image`] | pixel buffers, tone mapping, PNG/EXR writers, text | — |
+//! | [`spectrum`] | CIE tables, sampled wavelengths, colour, film colour | `optics` |
+//! | [`pointcloud`] | the particle cloud and its validation/estimation | — |
+//! | [`io`] | readers (PLY, ...) filling a [`pointcloud::PointCloud`] | `pointcloud` |
+//! | [`geometry`] | disks, spheres, BVH, ray queries | `pointcloud` |
+//! | [`render`] | camera, environment, integrator, film buffer | all above |
+//! | [`cli`] | command-line front end | all |
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod error;
+pub mod geometry;
+pub mod image;
+pub mod io;
+pub mod optics;
+pub mod pointcloud;
+pub mod render;
+pub mod spectrum;
+
+pub use error::{Error, Result};

@@ -1,0 +1,30 @@
+//! The particle cloud: what every reader produces and every geometry consumes.
+
+use glam::Vec3;
+
+/// A thin-film particle cloud. All per-particle arrays have `positions.len()` entries.
+#[derive(Debug, Clone, Default)]
+pub struct PointCloud {
+    /// Particle centres, in scene units.
+    pub positions: Vec<Vec3>,
+    /// Surface normals (not necessarily unit length in raw input), if the file has them.
+    pub normals: Option<Vec<Vec3>>,
+    /// Film thickness in nanometres (already converted from the file's unit), if present.
+    pub thickness_nm: Option<Vec<f32>>,
+    /// Splat radius in scene units, if present.
+    pub radius: Option<Vec<f32>>,
+    /// Every other scalar attribute the file holds, by name (for `info` and attribute mapping).
+    pub extra: Vec<(String, Vec<f32>)>,
+}
+
+impl PointCloud {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// True if the cloud has no particles.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+}
