@@ -15,7 +15,8 @@
 //! | [`pointcloud`] | the particle cloud and its validation/estimation | — |
 //! | [`io`] | readers (PLY, ...) filling a [`pointcloud::PointCloud`] | `pointcloud` |
 //! | [`geometry`] | disks, spheres, BVH, ray queries | `pointcloud` |
-//! | [`render`] | camera, environment, integrator, film buffer | all above |
+//! | [`samples`] | synthetic thin-film clouds (bubble, ...) | `pointcloud` |
+| [`render`] | camera, environment, integrator, film buffer | all above |
 //! | [`cli`] | command-line front end | all |
 #![warn(missing_docs)]
 
@@ -27,6 +28,7 @@ pub mod io;
 pub mod optics;
 pub mod pointcloud;
 pub mod render;
+pub mod samples;
 pub mod spectrum;
 
 pub use error::{Error, Result};

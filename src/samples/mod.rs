@@ -1,0 +1,1 @@
+//! Sample scene generators: synthetic thin-film particle clouds (bubbles, films).
