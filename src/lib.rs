@@ -16,7 +16,7 @@
 //! | [`io`] | readers (PLY, ...) filling a [`pointcloud::PointCloud`] | `pointcloud` |
 //! | [`geometry`] | disks, spheres, BVH, ray queries | `pointcloud` |
 //! | [`samples`] | synthetic thin-film clouds (bubble, ...) | `pointcloud` |
-| [`render`] | camera, environment, integrator, film buffer | all above |
+//! | [`render`] | camera, environment, integrator, film buffer | all above |
 //! | [`cli`] | command-line front end | all |
 #![warn(missing_docs)]
 
