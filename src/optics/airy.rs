@@ -113,8 +113,13 @@ pub fn film_rt(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: f64) -> FilmR
     }
     let e = C64::cis(phase);
     let e_half = C64::cis(0.5 * phase);
+    // 1 − e^{iφ} = 2 sin²(φ/2) − i sin φ, exactly, without cancellation for small φ.
+    let s_half = (0.5 * phase).sin();
+    let one_minus_e = C64 { re: 2.0 * s_half * s_half, im: -phase.sin() };
     let airy = |r01: f64, t01: f64, r10: f64, t10: f64| -> (f64, f64) {
-        let denom = C64::ONE - C64::real(r10 * r10) * e;
+        // 1 − r10² e^{iφ}, written as (1 − r10²) + r10² (1 − e^{iφ}) with 1 − r10² = t01 t10
+        // (Stokes relations), which stays accurate when r10² → 1 (grazing) and φ → 0.
+        let denom = C64::real(t01 * t10) + C64::real(r10 * r10) * one_minus_e;
         let r = C64::real(r01) + C64::real(t01 * t10 * r10) * e / denom;
         let t = C64::real(t01 * t10) * e_half / denom;
         (r.norm_sqr(), t.norm_sqr())
