@@ -1,6 +1,70 @@
-//! Command-line front end.
+//! Command-line front end: a thin layer that turns clap arguments into library calls, and
+//! library errors into one-line messages and exit codes (2: bad input, 1: internal error).
+
+mod film;
+mod parse;
+
+use clap::{Parser, Subcommand};
+use std::ffi::OsString;
+use std::io::Write;
+
+/// filmsplat: spectral thin-film renderer for SPH particle clouds.
+#[derive(Debug, Parser)]
+#[command(name = "filmsplat", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Print the reflectance/transmittance (or reflected colour) of a thin film as CSV.
+    Film(film::FilmArgs),
+}
+
+/// Runs the CLI with the given arguments (including the program name), writing normal output
+/// to `out`. Returns the library error for the caller to report.
+pub fn run<I, T>(args: I, out: &mut dyn Write) -> crate::Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // Help and version go to stdout with success; usage errors are bad input.
+            if !e.use_stderr() {
+                let _ = writeln!(out, "{}", e.render().to_string().trim_end());
+                return Ok(());
+            }
+            let _ = e.print();
+            std::process::exit(2);
+        }
+    };
+    match cli.command {
+        Command::Film(a) => film::run(&a, out),
+    }
+}
 
 /// Runs the CLI on the process arguments; returns the exit code.
 pub fn main() -> i32 {
-    0
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let result = run(std::env::args_os(), &mut out);
+    let flushed = out.flush();
+    match result {
+        Ok(()) => match flushed {
+            Ok(()) => 0,
+            // A closed pipe (e.g. `| head`) is not an error worth a message.
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => 0,
+            Err(e) => {
+                eprintln!("filmsplat: error: writing output: {e}");
+                1
+            }
+        },
+        Err(e) => {
+            eprintln!("filmsplat: error: {e}");
+            e.exit_code()
+        }
+    }
 }

@@ -11,7 +11,6 @@ struct C64 {
 }
 
 impl C64 {
-    const ONE: C64 = C64 { re: 1.0, im: 0.0 };
     fn real(re: f64) -> Self {
         C64 { re, im: 0.0 }
     }

@@ -1,0 +1,70 @@
+//! Parsers for list-valued CLI arguments.
+
+/// A parsed list of numbers (see [`number_list`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumberList(pub Vec<f64>);
+
+/// clap value parser for [`NumberList`].
+pub fn number_list_arg(s: &str) -> Result<NumberList, String> {
+    number_list(s).map(NumberList)
+}
+
+/// Parses a comma-separated list of numbers, e.g. `0,100,300`. Ranges `a:b:step` (inclusive of
+/// `b` when it falls on the grid) may appear as items, e.g. `0:1000:50,1500`.
+pub fn number_list(s: &str) -> Result<Vec<f64>, String> {
+    let mut out = Vec::new();
+    for item in s.split(',').map(str::trim) {
+        if item.is_empty() {
+            return Err(format!("empty item in list '{s}'"));
+        }
+        if item.contains(':') {
+            out.extend(range(item)?);
+        } else {
+            out.push(number(item)?);
+        }
+    }
+    Ok(out)
+}
+
+/// Largest number of values one range may expand to.
+const MAX_RANGE_VALUES: usize = 1_000_000;
+
+/// Parses `start:end:step` into the inclusive grid start, start+step, …, ≤ end.
+pub fn range(s: &str) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let [a, b, step] = parts[..] else {
+        return Err(format!("range '{s}' must be start:end:step"));
+    };
+    let (a, b, step) = (number(a)?, number(b)?, number(step)?);
+    if step <= 0.0 || b < a {
+        return Err(format!("range '{s}' needs start <= end and step > 0"));
+    }
+    let n = ((b - a) / step + 1e-9).floor() as usize + 1;
+    if n > MAX_RANGE_VALUES {
+        return Err(format!("range '{s}' has {n} values, more than the {MAX_RANGE_VALUES} allowed"));
+    }
+    Ok((0..n).map(|i| a + i as f64 * step).collect())
+}
+
+fn number(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    if !v.is_finite() {
+        return Err(format!("'{s}' is not a finite number"));
+    }
+    Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_and_ranges() {
+        assert_eq!(number_list("0,100,300").unwrap(), vec![0.0, 100.0, 300.0]);
+        assert_eq!(number_list("380:400:10").unwrap(), vec![380.0, 390.0, 400.0]);
+        assert_eq!(number_list("1:2:0.5,7").unwrap(), vec![1.0, 1.5, 2.0, 7.0]);
+        for bad in ["", "1,,2", "a", "1:2", "2:1:1", "1:2:0", "nan", "0:1e12:1e-3"] {
+            assert!(number_list(bad).is_err(), "{bad}");
+        }
+    }
+}
