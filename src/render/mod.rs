@@ -1,1 +1,12 @@
-//! render stage (see the crate docs for its place).
+//! Rendering: camera, environment lighting, the film shader and the integrator.
+
+pub mod camera;
+pub mod environment;
+pub mod integrator;
+pub mod sampler;
+pub mod shading;
+
+pub use camera::Camera;
+pub use environment::{Environment, LatLongMap, SoftBox, Studio};
+pub use integrator::{RenderOutput, RenderSettings, Scene, render};
+pub use shading::{FilmShader, ShadingMode};

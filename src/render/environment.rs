@@ -1,0 +1,215 @@
+//! Environment lighting: the radiance arriving from infinitely far away in each direction.
+//!
+//! A film is a perfect specular surface, so everything it shows is the environment (and other
+//! films) reflected and transmitted. Radiance is linear sRGB, scaled so 1 is a white surface
+//! lit to display white.
+
+use glam::Vec3;
+
+/// A lat-long (equirectangular) environment map: +y is up, the image's centre column looks
+/// toward −z, u grows toward +x (the usual convention of HDR panoramas).
+#[derive(Debug, Clone)]
+pub struct LatLongMap {
+    width: usize,
+    height: usize,
+    texels: Vec<Vec3>,
+    /// Rotation about +y, radians.
+    rotation: f32,
+    /// Radiance multiplier.
+    intensity: f32,
+}
+
+impl LatLongMap {
+    /// A map from `width × height` linear RGB texels (row-major, top row = straight up), rotated
+    /// by `rotation_deg` about +y and scaled by `intensity`. Non-finite or negative texels are
+    /// replaced by 0 so they can never reach an image.
+    pub fn new(width: usize, height: usize, mut texels: Vec<Vec3>, rotation_deg: f32, intensity: f32) -> Self {
+        for t in &mut texels {
+            *t = Vec3::select(t.cmpge(Vec3::ZERO) & t.is_finite_mask(), *t, Vec3::ZERO);
+        }
+        LatLongMap { width, height, texels, rotation: rotation_deg.to_radians(), intensity }
+    }
+
+    fn radiance(&self, dir: Vec3) -> Vec3 {
+        if self.width == 0 || self.height == 0 {
+            return Vec3::ZERO;
+        }
+        let phi = dir.x.atan2(-dir.z) - self.rotation;
+        let u = (phi / std::f32::consts::TAU + 0.5).rem_euclid(1.0);
+        let v = dir.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+        // Bilinear, wrapping in u and clamping in v.
+        let x = u * self.width as f32 - 0.5;
+        let y = (v * self.height as f32 - 0.5).clamp(0.0, (self.height - 1) as f32);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let xi = |x: f32| (x as i64).rem_euclid(self.width as i64) as usize;
+        let (xa, xb) = (xi(x0), xi(x0 + 1.0));
+        let (ya, yb) = (y0 as usize, (y0 as usize + 1).min(self.height - 1));
+        let at = |x: usize, y: usize| self.texels[y * self.width + x];
+        let top = at(xa, ya).lerp(at(xb, ya), fx);
+        let bottom = at(xa, yb).lerp(at(xb, yb), fx);
+        top.lerp(bottom, fy) * self.intensity
+    }
+}
+
+/// A rectangular soft box of the studio: bright inside, falling smoothly to 0 over its rim.
+#[derive(Debug, Clone, Copy)]
+pub struct SoftBox {
+    /// Unit direction toward the box's centre.
+    pub dir: Vec3,
+    /// Half-width and half-height, as tangents of the half-angles.
+    pub half_size: (f32, f32),
+    /// Width of the soft rim, in the same tangent units.
+    pub softness: f32,
+    /// Radiance at the centre (linear RGB).
+    pub radiance: Vec3,
+}
+
+impl SoftBox {
+    fn radiance(&self, dir: Vec3) -> Vec3 {
+        let c = dir.dot(self.dir);
+        if c <= 0.0 {
+            return Vec3::ZERO;
+        }
+        // Box frame: right is horizontal (perpendicular to +y), up completes it.
+        let right = self.dir.cross(Vec3::Y).try_normalize().unwrap_or(Vec3::X);
+        let up = right.cross(self.dir);
+        let (u, v) = (dir.dot(right) / c, dir.dot(up) / c);
+        let edge = |x: f32, half: f32| smoothstep(half + self.softness, half - self.softness, x.abs());
+        self.radiance * edge(u, self.half_size.0) * edge(v, self.half_size.1)
+    }
+}
+
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The built-in photo studio: a dark gradient backdrop (as bubble photographers use, so the
+/// films' colours stand out) and a few large soft boxes that the films reflect.
+#[derive(Debug, Clone)]
+pub struct Studio {
+    /// Backdrop radiance straight down, at the horizon and straight up.
+    pub backdrop: [Vec3; 3],
+    /// The soft boxes.
+    pub boxes: Vec<SoftBox>,
+    /// Multiplier on everything.
+    pub intensity: f32,
+}
+
+impl Default for Studio {
+    fn default() -> Self {
+        let boxes = vec![
+            // Key: large, upper left, in front of the subject (toward +z, where the default
+            // camera stands).
+            SoftBox {
+                dir: Vec3::new(-0.55, 0.45, 0.70).normalize(),
+                half_size: (0.45, 0.60),
+                softness: 0.12,
+                radiance: Vec3::splat(5.0),
+            },
+            // Fill: right, a little lower and dimmer, slightly warm.
+            SoftBox {
+                dir: Vec3::new(0.80, 0.10, 0.55).normalize(),
+                half_size: (0.30, 0.50),
+                softness: 0.10,
+                radiance: Vec3::new(2.6, 2.4, 2.2),
+            },
+            // Top strip.
+            SoftBox {
+                dir: Vec3::new(0.0, 1.0, 0.15).normalize(),
+                half_size: (0.70, 0.25),
+                softness: 0.10,
+                radiance: Vec3::splat(3.0),
+            },
+        ];
+        Studio {
+            backdrop: [Vec3::new(0.010, 0.010, 0.012), Vec3::new(0.030, 0.032, 0.040), Vec3::new(0.060, 0.065, 0.080)],
+            boxes,
+            intensity: 1.0,
+        }
+    }
+}
+
+impl Studio {
+    fn radiance(&self, dir: Vec3) -> Vec3 {
+        let y = dir.y.clamp(-1.0, 1.0);
+        let back = if y < 0.0 {
+            self.backdrop[1].lerp(self.backdrop[0], -y)
+        } else {
+            self.backdrop[1].lerp(self.backdrop[2], y)
+        };
+        let boxes: Vec3 = self.boxes.iter().map(|b| b.radiance(dir)).sum();
+        (back + boxes) * self.intensity
+    }
+}
+
+/// Where the light comes from.
+#[derive(Debug, Clone)]
+pub enum Environment {
+    /// The same radiance from every direction (a "white furnace" when it is 1).
+    Uniform(Vec3),
+    /// `toward` from the hemisphere around `axis` (directions d with d·axis > 0), `away` from the
+    /// other half.
+    Hemispheres {
+        /// Unit axis.
+        axis: Vec3,
+        /// Radiance of the hemisphere around `axis`.
+        toward: Vec3,
+        /// Radiance of the opposite hemisphere.
+        away: Vec3,
+    },
+    /// The built-in studio.
+    Studio(Studio),
+    /// An HDR panorama.
+    Map(LatLongMap),
+}
+
+impl Environment {
+    /// Radiance arriving from direction `dir` (unit; the direction the light travels is `−dir`).
+    #[inline]
+    pub fn radiance(&self, dir: Vec3) -> Vec3 {
+        match self {
+            Environment::Uniform(c) => *c,
+            Environment::Hemispheres { axis, toward, away } => {
+                if dir.dot(*axis) > 0.0 {
+                    *toward
+                } else {
+                    *away
+                }
+            }
+            Environment::Studio(s) => s.radiance(dir),
+            Environment::Map(m) => m.radiance(dir),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn studio_has_bright_boxes_on_a_dark_backdrop() {
+        let s = Environment::Studio(Studio::default());
+        let key = Vec3::new(-0.55, 0.45, 0.70).normalize();
+        assert!(s.radiance(key).min_element() > 4.0);
+        assert!(s.radiance(Vec3::new(0.0, -0.2, -1.0).normalize()).max_element() < 0.1);
+        for i in 0..1000 {
+            let d = Vec3::new((i as f32 * 0.37).sin(), (i as f32 * 0.11).cos(), (i as f32 * 0.73).sin());
+            let r = s.radiance(d.normalize());
+            assert!(r.is_finite() && r.min_element() >= 0.0);
+        }
+    }
+
+    #[test]
+    fn latlong_lookup_finds_the_right_texels() {
+        // 4×2 map: top row red, bottom row blue; a NaN texel is dropped.
+        let mut t = vec![Vec3::X; 4];
+        t.extend(vec![Vec3::Z; 4]);
+        t[5] = Vec3::NAN;
+        let m = Environment::Map(LatLongMap::new(4, 2, t, 0.0, 2.0));
+        assert!((m.radiance(Vec3::Y) - 2.0 * Vec3::X).length() < 1e-5);
+        assert!(m.radiance(Vec3::NEG_Y).is_finite());
+        assert!(m.radiance(Vec3::NEG_Y).z > 0.0);
+    }
+}

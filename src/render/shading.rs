@@ -1,0 +1,96 @@
+//! How a film crossing is turned into reflected and transmitted RGB weights: the speed/accuracy
+//! knob of the renderer.
+
+use crate::optics::FilmFresnel;
+use crate::spectrum::film_colour::SpectralWeights;
+use crate::spectrum::{FilmLut, SampledWavelengths, WavelengthRange, WavelengthStrategy};
+use glam::Vec3;
+use std::fmt;
+use std::str::FromStr;
+
+/// Shading mode, chosen per render (`--shading`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShadingMode {
+    /// A precomputed table of the film's RGB reflectance over (cos θ, thickness), integrated at
+    /// 1 nm: fastest (~5 ns a hit), error < 2e-3 up to 85° incidence.
+    #[default]
+    Lut,
+    /// Per-hit integration over the sample's wavelengths (`--wavelengths N`, jittered per camera
+    /// sample so thick films converge instead of aliasing), reduced to RGB at the hit.
+    Rgb,
+}
+
+impl FromStr for ShadingMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "lut" => Ok(Self::Lut),
+            "rgb" => Ok(Self::Rgb),
+            _ => Err(format!("unknown shading mode '{s}' (expected lut or rgb)")),
+        }
+    }
+}
+
+impl fmt::Display for ShadingMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Lut => "lut",
+            Self::Rgb => "rgb",
+        })
+    }
+}
+
+/// The film shader for one render: the film's index and the chosen mode's precomputed state.
+#[derive(Debug, Clone)]
+pub struct FilmShader {
+    ior: f32,
+    lut: Option<FilmLut>,
+    wavelengths: usize,
+    strategy: WavelengthStrategy,
+}
+
+/// Per-camera-sample shading state (the sample's wavelengths and colour weights).
+#[derive(Debug, Clone, Default)]
+pub struct SampleShading {
+    weights: SpectralWeights,
+}
+
+impl FilmShader {
+    /// A shader for film index `ior` in `mode`; `wavelengths` and `strategy` apply to
+    /// [`ShadingMode::Rgb`]. Building the LUT costs ~0.3 s on 2 cores.
+    pub fn new(ior: f32, mode: ShadingMode, wavelengths: usize, strategy: WavelengthStrategy) -> Self {
+        let lut = (mode == ShadingMode::Lut).then(|| FilmLut::new(ior));
+        FilmShader { ior, lut, wavelengths, strategy }
+    }
+
+    /// The film's index of refraction.
+    pub fn ior(&self) -> f32 {
+        self.ior
+    }
+
+    /// Prepares `state` for a new camera sample; `u` supplies one random number per wavelength.
+    pub fn begin_sample(&self, state: &mut SampleShading, u: &[f32]) {
+        if self.lut.is_none() {
+            let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, self.wavelengths, self.strategy, u);
+            state.weights.set(wl.as_slice());
+        }
+    }
+
+    /// Number of random numbers [`begin_sample`](Self::begin_sample) uses.
+    pub fn randoms_per_sample(&self) -> usize {
+        if self.lut.is_some() { 0 } else { self.wavelengths }
+    }
+
+    /// Reflected RGB fraction of a film of `thickness_nm` met at `|cos θ|` = `cos_i`; the
+    /// transmitted fraction is `1 − this`.
+    #[inline]
+    pub fn reflectance(&self, state: &SampleShading, cos_i: f32, thickness_nm: f32) -> Vec3 {
+        match &self.lut {
+            Some(lut) => Vec3::from(lut.reflectance_rgb(cos_i, thickness_nm)),
+            None => {
+                let f = FilmFresnel::new(cos_i, self.ior);
+                Vec3::from(state.weights.film_reflectance_rgb(&f, thickness_nm))
+            }
+        }
+    }
+}
