@@ -10,25 +10,31 @@
 //! | module | what | imports |
 //! |---|---|---|
 //! | [`optics`] | thin-film Fresnel/Airy reflectance, plain numbers | — |
+//! | [`scene`] | the scene-file description (TOML), pure data | — |
 //! | [`image`] | pixel buffers, tone mapping, PNG/EXR writers, text | — |
 //! | [`spectrum`] | CIE tables, sampled wavelengths, colour, film colour | `optics` |
 //! | [`pointcloud`] | the particle cloud and its validation/estimation | — |
 //! | [`io`] | readers (PLY, ...) filling a [`pointcloud::PointCloud`] | `pointcloud` |
 //! | [`geometry`] | disks, spheres, BVH, ray queries | `pointcloud` |
 //! | [`samples`] | synthetic thin-film clouds (bubble, ...) | `pointcloud` |
+//! | [`figure`] | the interference chart and annotated figures | `spectrum`, `image` |
 //! | [`render`] | camera, environment, integrator, film buffer | all above |
+//! | [`pipeline`] | scene description → particles → geometry → image files | all above |
 //! | [`cli`] | command-line front end | all |
 #![warn(missing_docs)]
 
 pub mod cli;
 pub mod error;
+pub mod figure;
 pub mod geometry;
 pub mod image;
 pub mod io;
 pub mod optics;
+pub mod pipeline;
 pub mod pointcloud;
 pub mod render;
 pub mod samples;
+pub mod scene;
 pub mod spectrum;
 
 pub use error::{Error, Result};

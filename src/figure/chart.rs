@@ -1,0 +1,117 @@
+//! The interference colour chart: the reflected colour of a film against thickness (x) and
+//! angle of incidence (y) — the picture a scientist reads a film's thickness from.
+
+use crate::image::{Anchor, RgbImage, draw_line, draw_text, draw_text_vertical};
+use crate::optics::FilmFresnel;
+use crate::spectrum::{SpectralWeights, reference_grid_nm};
+use rayon::prelude::*;
+
+/// Parameters of [`interference_chart`].
+#[derive(Debug, Clone)]
+pub struct ChartParams {
+    /// Largest thickness shown, nm.
+    pub max_thickness_nm: f32,
+    /// Film index of refraction.
+    pub ior: f32,
+    /// Largest angle of incidence shown, degrees (< 90).
+    pub max_angle_deg: f32,
+    /// Image size, pixels.
+    pub width: usize,
+    /// Image height, pixels.
+    pub height: usize,
+}
+
+impl Default for ChartParams {
+    fn default() -> Self {
+        ChartParams { max_thickness_nm: 1500.0, ior: 1.33, max_angle_deg: 89.0, width: 1600, height: 900 }
+    }
+}
+
+const INK: [f32; 3] = [0.015, 0.015, 0.015];
+const GRID: [f32; 3] = [0.35, 0.35, 0.35];
+
+/// A "nice" tick step (1, 2 or 5 × 10^k) giving about `target` ticks over `span`.
+fn nice_step(span: f32, target: f32) -> f32 {
+    let raw = span / target;
+    let mag = 10f32.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag)
+}
+
+/// Renders the chart as a linear-RGB image (white background), ready for sRGB encoding with a
+/// clamp tone curve.
+///
+/// Colour: the 1 nm spectral integral of D65 light reflected by the film (the same numbers as
+/// `filmsplat film --rgb`). Each row is exposed so that the incoherent reflectance of a very
+/// thick film at that angle shows as a light grey (0.45); without it the chart would be black
+/// at normal incidence (soap reflects ~4%) and white near grazing. Out-of-gamut colours are
+/// brought into gamut by scaling (hue kept) and clipping negatives.
+pub fn interference_chart(p: &ChartParams) -> RgbImage {
+    let (w, h) = (p.width.max(400), p.height.max(300));
+    let mut img = RgbImage::filled(w, h, [1.0; 3]);
+    let s = (h as f32 / 900.0).max(0.5); // type scale
+    let (left, right, top, bottom) = ((120.0 * s) as usize, (40.0 * s) as usize, (96.0 * s) as usize, (100.0 * s) as usize);
+    let (pw, ph) = (w - left - right, h - top - bottom);
+
+    // The plot: one row per pixel row, angle decreasing upward from max at the top.
+    let grid: Vec<f32> = reference_grid_nm().iter().map(|&l| l as f32).collect();
+    let weights = SpectralWeights::new(&grid);
+    let rows: Vec<Vec<[f32; 3]>> = (0..ph)
+        .into_par_iter()
+        .map(|r| {
+            let angle = p.max_angle_deg * (1.0 - (r as f32 + 0.5) / ph as f32);
+            let fresnel = FilmFresnel::new(angle.to_radians().cos(), p.ior);
+            let exposure = 0.45 / fresnel.incoherent_reflectance().max(1e-6);
+            (0..pw)
+                .map(|c| {
+                    let thickness = p.max_thickness_nm * (c as f32 + 0.5) / pw as f32;
+                    let rgb = weights.film_reflectance_rgb(&fresnel, thickness).map(|v| (v * exposure).max(0.0));
+                    let m = rgb[0].max(rgb[1]).max(rgb[2]);
+                    if m > 1.0 { rgb.map(|v| v / m) } else { rgb }
+                })
+                .collect()
+        })
+        .collect();
+    for (r, row) in rows.into_iter().enumerate() {
+        for (c, v) in row.into_iter().enumerate() {
+            img.set(left + c, top + r, v);
+        }
+    }
+
+    // Frame, ticks, labels.
+    let (x0, y0, x1, y1) = (left as f32, top as f32, (left + pw) as f32, (top + ph) as f32);
+    let tick = 8.0 * s;
+    let label = 20.0 * s;
+    let x_step = nice_step(p.max_thickness_nm, 12.0);
+    let mut v = 0.0;
+    while v <= p.max_thickness_nm + 1e-3 {
+        let x = x0 + v / p.max_thickness_nm * pw as f32;
+        draw_line(&mut img, x, y1, x, y1 + tick, 1.5 * s, INK);
+        draw_text(&mut img, x, y1 + tick + 4.0 * s, &format!("{v}"), label, INK, Anchor::TOP_CENTRE);
+        v += x_step;
+    }
+    // Minor ticks.
+    let mut v = 0.0;
+    while v <= p.max_thickness_nm + 1e-3 {
+        let x = x0 + v / p.max_thickness_nm * pw as f32;
+        draw_line(&mut img, x, y1, x, y1 + 0.5 * tick, 1.0 * s, GRID);
+        v += x_step / 5.0;
+    }
+    let y_step = nice_step(p.max_angle_deg, 9.0);
+    let mut a = 0.0;
+    while a <= p.max_angle_deg + 1e-3 {
+        let y = y1 - a / p.max_angle_deg * ph as f32;
+        draw_line(&mut img, x0 - tick, y, x0, y, 1.5 * s, INK);
+        draw_text(&mut img, x0 - tick - 6.0 * s, y, &format!("{a}°"), label, INK, Anchor::MIDDLE_RIGHT);
+        a += y_step;
+    }
+    for (xa, ya, xb, yb) in [(x0, y0, x1, y0), (x0, y1, x1, y1), (x0, y0, x0, y1), (x1, y0, x1, y1)] {
+        draw_line(&mut img, xa, ya, xb, yb, 1.5 * s, INK);
+    }
+    draw_text(&mut img, 0.5 * (x0 + x1), h as f32 - 22.0 * s, "Film thickness (nm)", 24.0 * s, INK, Anchor::BASELINE_CENTRE);
+    draw_text_vertical(&mut img, 30.0 * s, 0.5 * (y0 + y1), "Angle of incidence (degrees)", 24.0 * s, INK, Anchor::CENTRE);
+    let title = format!("Thin-film interference colours: film of n = {} in air, D65 light, CIE 1931 2°", p.ior);
+    draw_text(&mut img, x0, 40.0 * s, &title, 28.0 * s, INK, Anchor::BASELINE_LEFT);
+    let sub = "Reflected colour; each angle exposed so a very thick film appears light grey";
+    draw_text(&mut img, x0, 70.0 * s, sub, 18.0 * s, [0.25; 3], Anchor::BASELINE_LEFT);
+    img
+}

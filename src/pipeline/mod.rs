@@ -1,0 +1,287 @@
+//! The whole pipeline behind `filmsplat render`, callable from Rust: scene description →
+//! particles → geometry → rendered buffers → image files.
+//!
+//! ```no_run
+//! use filmsplat::pipeline;
+//! use filmsplat::scene::SceneDesc;
+//! let desc = SceneDesc::from_toml("[input]\nsample = \"bubble\"\n", "inline").unwrap();
+//! let prepared = pipeline::prepare(&desc, std::path::Path::new("."), false).unwrap();
+//! let out = pipeline::render(&prepared).unwrap();
+//! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
+//! ```
+
+use crate::geometry::{Primitive, SplatGeometry};
+use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
+use crate::io::{ReadOptions, read_cloud};
+use crate::optics::check_film_params;
+use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, median_spacing, validate};
+use crate::render::{Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode, Studio};
+use crate::samples::{BubbleParams, bubble};
+use crate::scene::SceneDesc;
+use crate::spectrum::WavelengthStrategy;
+use crate::{Error, Result};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Everything ready to render, plus what it cost to get here.
+#[derive(Debug)]
+pub struct Prepared {
+    /// Geometry, camera and light.
+    pub scene: Scene,
+    /// The film shader.
+    pub shader: FilmShader,
+    /// Sampling settings.
+    pub settings: RenderSettings,
+    /// Exposure, EV.
+    pub exposure: f32,
+    /// Tone curve for PNG output.
+    pub tonemap: ToneMap,
+    /// Output path from the scene file, resolved against its folder.
+    pub output: Option<PathBuf>,
+    /// Number of particles.
+    pub particles: usize,
+    /// Time spent loading or generating the cloud.
+    pub load_time: Duration,
+    /// Time spent estimating missing normals/radii.
+    pub estimate_time: Duration,
+    /// Time spent building the acceleration structure.
+    pub build_time: Duration,
+    /// Notes for the user (what was estimated, defaults applied).
+    pub notes: Vec<String>,
+}
+
+fn parse_enum<T: std::str::FromStr<Err = String>>(v: &Option<String>, default: T, key: &str) -> Result<T> {
+    match v {
+        None => Ok(default),
+        Some(s) => s.parse().map_err(|e| Error::invalid(format!("{key}: {e}"))),
+    }
+}
+
+/// Thickness unit name → factor to nanometres.
+pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
+    match unit {
+        "nm" => Ok(1.0),
+        "um" | "µm" => Ok(1e3),
+        "mm" => Ok(1e6),
+        "m" => Ok(1e9),
+        _ => Err(Error::invalid(format!("thickness unit '{unit}' is not one of nm, um, mm, m"))),
+    }
+}
+
+/// Loads (or generates) the scene's particle cloud, with thickness in nm.
+pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
+    let input = &desc.input;
+    match (&input.cloud, &input.sample) {
+        (Some(_), Some(_)) => Err(Error::invalid("input: give either cloud or sample, not both")),
+        (None, None) => Err(Error::invalid("input: no particles given (set input.cloud or input.sample)")),
+        (None, Some(name)) => match name.as_str() {
+            "bubble" => {
+                let mut p = BubbleParams::default();
+                if let Some(n) = input.particles {
+                    p.particles = n;
+                }
+                if let Some(s) = input.sample_seed {
+                    p.seed = s;
+                }
+                if let Some(t) = input.time {
+                    p.time = t;
+                }
+                if p.particles == 0 || p.particles > 50_000_000 {
+                    return Err(Error::invalid(format!("input.particles must be 1..=50000000, got {}", p.particles)));
+                }
+                Ok(bubble(&p))
+            }
+            other => Err(Error::invalid(format!("input.sample: unknown sample '{other}' (available: bubble)"))),
+        },
+        (Some(path), None) => {
+            let unit = desc.film.thickness_unit.as_deref().unwrap_or("nm");
+            let opts = ReadOptions {
+                thickness_scale_to_nm: thickness_unit_factor(unit)?,
+                thickness_attr: input.thickness_attr.clone(),
+                ..ReadOptions::default()
+            };
+            read_cloud(&base.join(path), &opts)
+        }
+    }
+}
+
+/// Builds everything the renderer needs from a scene description. `base` is the folder paths
+/// are relative to; `progress` enables the progress bar.
+pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared> {
+    let mut notes = Vec::new();
+    let ior = desc.film.ior.unwrap_or(1.33);
+    check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
+    let primitive: Primitive = parse_enum(&desc.film.primitive, Primitive::Disk, "film.primitive")?;
+    let shading: ShadingMode = parse_enum(&desc.render.shading, ShadingMode::Lut, "render.shading")?;
+    let strategy: WavelengthStrategy = parse_enum(&desc.render.strategy, WavelengthStrategy::Jittered, "render.strategy")?;
+    let tonemap: ToneMap = parse_enum(&desc.output.tonemap, ToneMap::Filmic, "output.tonemap")?;
+    let r = &desc.render;
+    let settings = RenderSettings {
+        width: r.width.unwrap_or(960),
+        height: r.height.unwrap_or(540),
+        spp: r.spp.unwrap_or(4),
+        max_depth: r.max_depth.unwrap_or(12).min(64),
+        min_weight: r.min_weight.unwrap_or(1e-3),
+        seed: r.seed.unwrap_or(0),
+        progress,
+    };
+    if settings.width == 0 || settings.height == 0 || settings.width > 32_768 || settings.height > 32_768 {
+        return Err(Error::invalid(format!(
+            "image size must be between 1x1 and 32768x32768, got {}x{}",
+            settings.width, settings.height
+        )));
+    }
+    if settings.spp == 0 {
+        return Err(Error::invalid("render.spp must be at least 1"));
+    }
+    let wavelengths = r.wavelengths.unwrap_or(16);
+    if !(1..=crate::spectrum::wavelengths::MAX_WAVELENGTHS).contains(&wavelengths) {
+        return Err(Error::invalid(format!(
+            "render.wavelengths must be 1..={}, got {wavelengths}",
+            crate::spectrum::wavelengths::MAX_WAVELENGTHS
+        )));
+    }
+    let thickness_scale = desc.film.thickness_scale.unwrap_or(1.0);
+    let default_thickness = desc.film.default_thickness_nm.unwrap_or(500.0);
+    check_film_params(ior as f64, default_thickness as f64)
+        .map_err(|m| Error::invalid(format!("film.default_thickness_nm: {m}")))?;
+    if !(thickness_scale.is_finite() && thickness_scale >= 0.0) {
+        return Err(Error::invalid(format!("film.thickness_scale must be >= 0, got {thickness_scale}")));
+    }
+    let radius_scale = desc.film.radius_scale.unwrap_or(1.0);
+    if !(radius_scale.is_finite() && radius_scale > 0.0) {
+        return Err(Error::invalid(format!("film.radius_scale must be > 0, got {radius_scale}")));
+    }
+
+    let t0 = Instant::now();
+    let mut cloud = load_cloud(desc, base)?;
+    let load_time = t0.elapsed();
+    validate(&cloud)?;
+    let t1 = Instant::now();
+    if let Some(t) = cloud.thickness_nm.as_mut() {
+        if thickness_scale != 1.0 {
+            t.iter_mut().for_each(|v| *v *= thickness_scale);
+        }
+    }
+    let report = fill_missing(&mut cloud, &EstimateOptions { default_thickness_nm: default_thickness, ..EstimateOptions::default() });
+    notes.push(report.to_string());
+    let estimate_time = t1.elapsed();
+    if let Some(t) = &cloud.thickness_nm {
+        if let Some((i, v)) = t.iter().enumerate().find(|(_, v)| check_film_params(ior as f64, **v as f64).is_err()) {
+            return Err(Error::invalid(format!("particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm")));
+        }
+    }
+    let radii: Vec<f32> = cloud.radius.as_ref().expect("filled").iter().map(|r| r * radius_scale).collect();
+
+    let t2 = Instant::now();
+    let normals = cloud.normals.as_ref().expect("filled");
+    let thickness = cloud.thickness_nm.as_ref().expect("filled");
+    let geometry = SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
+    let build_time = t2.elapsed();
+
+    let bounds = geometry.bounds();
+    let diag = (bounds.max - bounds.min).length().max(1e-12);
+    let epsilon = 1e-5 * diag.max(bounds.max.abs().max_element());
+    let mut sorted = radii.clone();
+    let mid = sorted.len() / 2;
+    let median_radius = *sorted.select_nth_unstable_by(mid, f32::total_cmp).1;
+    let layer_skip = match primitive {
+        Primitive::Disk => 0.5 * median_radius,
+        Primitive::Sphere => epsilon,
+    };
+    let camera = camera(desc, &bounds, settings.width as f32 / settings.height as f32)?;
+    let environment = environment(desc, base)?;
+    let shader = FilmShader::new(ior, shading, wavelengths, strategy);
+    let output = desc.output.path.as_ref().map(|p| base.join(p));
+    let _ = median_spacing; // re-exported for `info`
+    Ok(Prepared {
+        scene: Scene { geometry, camera, environment, layer_skip, epsilon },
+        shader,
+        settings,
+        exposure: desc.output.exposure.unwrap_or(0.0),
+        tonemap,
+        output,
+        particles: cloud.len(),
+        load_time,
+        estimate_time,
+        build_time,
+        notes,
+    })
+}
+
+fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
+    let v = Vec3::from(v);
+    if v.is_finite() { Ok(v) } else { Err(Error::invalid(format!("{key} must be finite"))) }
+}
+
+fn camera(desc: &SceneDesc, bounds: &crate::geometry::Aabb, aspect: f32) -> Result<Camera> {
+    let c = &desc.camera;
+    let fov = c.fov.unwrap_or(40.0);
+    if !(1.0..=170.0).contains(&fov) {
+        return Err(Error::invalid(format!("camera.fov must be 1..170 degrees, got {fov}")));
+    }
+    let up = vec3(c.up.unwrap_or([0.0, 1.0, 0.0]), "camera.up")?;
+    let centre = 0.5 * (bounds.min + bounds.max);
+    match c.position {
+        Some(p) => {
+            let target = c.look_at.map(|t| vec3(t, "camera.look_at")).transpose()?.unwrap_or(centre);
+            let p = vec3(p, "camera.position")?;
+            if (p - target).length_squared() == 0.0 {
+                return Err(Error::invalid("camera.position and camera.look_at are the same point"));
+            }
+            Ok(Camera::look_at(p, target, up, fov))
+        }
+        None => {
+            let from = vec3(c.from.unwrap_or([0.35, 0.3, 1.0]), "camera.from")?;
+            Ok(Camera::frame(bounds, from, up, fov, aspect))
+        }
+    }
+}
+
+fn environment(desc: &SceneDesc, base: &Path) -> Result<Environment> {
+    let e = &desc.environment;
+    let intensity = e.intensity.unwrap_or(1.0);
+    if !(intensity.is_finite() && intensity >= 0.0) {
+        return Err(Error::invalid(format!("environment.intensity must be >= 0, got {intensity}")));
+    }
+    match e.kind.as_deref().unwrap_or(if e.map.is_some() { "map" } else { "studio" }) {
+        "studio" => Ok(Environment::Studio(Studio { intensity, ..Studio::default() })),
+        "uniform" => Ok(Environment::Uniform(vec3(e.colour.unwrap_or([1.0; 3]), "environment.colour")? * intensity)),
+        "map" => {
+            let path = e.map.as_ref().ok_or_else(|| Error::invalid("environment.kind = \"map\" needs environment.map"))?;
+            let (w, h, rgba) = crate::image::read_exr_rgba(&base.join(path))?;
+            let texels = rgba.into_iter().map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+            Ok(Environment::Map(LatLongMap::new(w, h, texels, e.rotation.unwrap_or(0.0), intensity)))
+        }
+        other => Err(Error::invalid(format!("environment.kind: unknown '{other}' (expected studio, uniform or map)"))),
+    }
+}
+
+/// Renders a prepared scene.
+pub fn render(p: &Prepared) -> Result<RenderOutput> {
+    crate::render::render(&p.scene, &p.shader, &p.settings)
+}
+
+/// Writes `out` to `path`: PNG (exposure + tone curve + sRGB) or EXR (linear RGBA plus depth,
+/// normal, thickness and hit-count layers), by extension. Written atomically.
+pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => {
+            let data = out.rgb.iter().map(|c| c.to_array()).collect();
+            let img = RgbImage::from_data(out.width, out.height, data)?;
+            save_png(path, &img, p.exposure, p.tonemap)
+        }
+        Some("exr") => {
+            let rgba = out.rgb.iter().zip(&out.alpha).map(|(c, a)| [c.x, c.y, c.z, *a]).collect();
+            let mut layers = ExrLayers::rgba(out.width, out.height, rgba);
+            layers.depth = Some(out.depth.clone());
+            layers.normal = Some(out.normal.iter().map(|n| n.to_array()).collect());
+            layers.thickness = Some(out.thickness.clone());
+            layers.hit_count = Some(out.hits.clone());
+            write_exr(path, &layers)
+        }
+        _ => Err(Error::invalid(format!("{}: output must end in .png or .exr", path.display()))),
+    }
+}
