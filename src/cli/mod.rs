@@ -1,8 +1,12 @@
 //! Command-line front end: a thin layer that turns clap arguments into library calls, and
 //! library errors into one-line messages and exit codes (2: bad input, 1: internal error).
 
+mod chart;
 mod film;
+mod info;
 mod parse;
+mod render;
+mod sample;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -20,6 +24,14 @@ pub struct Cli {
 enum Command {
     /// Print the reflectance/transmittance (or reflected colour) of a thin film as CSV.
     Film(film::FilmArgs),
+    /// Draw the interference colour chart (colour against thickness and angle) as a PNG.
+    Chart(chart::ChartArgs),
+    /// Render a particle cloud (.ply) or a scene file (.toml) to PNG or EXR.
+    Render(render::RenderArgs),
+    /// Describe a particle file: counts, attributes, bounds, spacing, thickness.
+    Info(info::InfoArgs),
+    /// Write a built-in sample cloud (e.g. a soap bubble) as PLY.
+    Sample(sample::SampleArgs),
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
@@ -43,6 +55,10 @@ where
     };
     match cli.command {
         Command::Film(a) => film::run(&a, out),
+        Command::Chart(a) => chart::run(&a, out),
+        Command::Render(a) => render::run(&a, out),
+        Command::Info(a) => info::run(&a, out),
+        Command::Sample(a) => sample::run(&a, out),
     }
 }
 

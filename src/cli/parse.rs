@@ -68,3 +68,19 @@ mod tests {
         }
     }
 }
+
+/// Parses an image size `WIDTHxHEIGHT`, e.g. `1280x720`.
+pub fn size(s: &str) -> Result<(usize, usize), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("size '{s}' must be WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let parse = |v: &str| v.trim().parse::<usize>().map_err(|_| format!("size '{s}' must be WIDTHxHEIGHT with whole numbers"));
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// Parses a 3-vector `x,y,z`.
+pub fn vec3(s: &str) -> Result<[f32; 3], String> {
+    let v = number_list(s)?;
+    match v[..] {
+        [x, y, z] => Ok([x as f32, y as f32, z as f32]),
+        _ => Err(format!("'{s}' must be three numbers x,y,z")),
+    }
+}

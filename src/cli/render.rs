@@ -1,0 +1,210 @@
+//! `filmsplat render`: render a particle cloud or a scene file.
+
+use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
+use crate::pipeline;
+use crate::scene::SceneDesc;
+use crate::{Error, Result};
+use clap::Args;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `filmsplat render`. Flags override the scene file.
+#[derive(Debug, Args)]
+#[command(after_help = attribute_help())]
+pub struct RenderArgs {
+    /// A particle cloud (.ply) or a scene file (.toml).
+    input: PathBuf,
+    /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
+    /// hit-count layers). Default: the scene file's output.path, else render.png.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Also write the linear EXR with all layers to this path.
+    #[arg(long)]
+    exr: Option<PathBuf>,
+    /// How particles are drawn: disk (oriented splats, blended into one film) or sphere.
+    #[arg(long)]
+    primitive: Option<String>,
+    /// Camera samples per pixel.
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Image size WIDTHxHEIGHT in pixels (default 960x540).
+    #[arg(long, value_parser = super::parse::size)]
+    size: Option<(usize, usize)>,
+    /// Random seed; the same seed gives the same image.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Film shading: lut (precomputed colour table, fastest) or rgb (per-hit spectral
+    /// integration over --wavelengths wavelengths).
+    #[arg(long)]
+    shading: Option<String>,
+    /// Wavelengths per camera sample for --shading rgb (1..64).
+    #[arg(long)]
+    wavelengths: Option<usize>,
+    /// Wavelength sampling for --shading rgb: jittered, stratified or hero.
+    #[arg(long)]
+    strategy: Option<String>,
+    /// Most film crossings along one path.
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Film index of refraction (default 1.33).
+    #[arg(long)]
+    ior: Option<f32>,
+    /// Unit of the file's thickness values: nm, um, mm or m (default nm).
+    #[arg(long)]
+    thickness_unit: Option<String>,
+    /// Extra factor on thickness after the unit conversion.
+    #[arg(long)]
+    thickness_scale: Option<f32>,
+    /// Name of the thickness attribute (default: the first of the aliases below).
+    #[arg(long)]
+    thickness_attr: Option<String>,
+    /// Thickness in nm for clouds without one (default 500).
+    #[arg(long)]
+    default_thickness: Option<f32>,
+    /// Factor on all splat radii (estimated from spacing or read from the file).
+    #[arg(long)]
+    radius_scale: Option<f32>,
+    /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
+    #[arg(long)]
+    env: Option<String>,
+    /// Rotation of an environment map about +y, degrees.
+    #[arg(long)]
+    env_rotation: Option<f32>,
+    /// Multiplier on the environment's radiance.
+    #[arg(long)]
+    env_intensity: Option<f32>,
+    /// Camera position x,y,z (scene units); default: auto-framing.
+    #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
+    camera: Option<[f32; 3]>,
+    /// Point the camera looks at, x,y,z (default: the cloud's centre).
+    #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
+    look_at: Option<[f32; 3]>,
+    /// Vertical field of view, degrees.
+    #[arg(long)]
+    fov: Option<f32>,
+    /// Exposure, EV (stops).
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f32>,
+    /// Tone curve for PNG: filmic or clamp.
+    #[arg(long)]
+    tonemap: Option<String>,
+    /// No progress bar or summary.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+fn attribute_help() -> String {
+    format!(
+        "Attribute names recognised in particle files:\n  thickness: {}\n  normals:   {}\n  radius:    {}\n\
+         Missing normals are estimated by PCA over nearest neighbours, missing radii from the local spacing.",
+        THICKNESS_ALIASES.join(", "),
+        NORMAL_ALIASES.join(", "),
+        RADIUS_ALIASES.join(", ")
+    )
+}
+
+/// The scene description: from the TOML file, or a default one around a particle file; then the
+/// flags on top. Returns it with the folder its paths are relative to.
+fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
+    let is_toml = a.input.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let (mut d, base) = if is_toml {
+        let text = std::fs::read_to_string(&a.input).map_err(|e| Error::io(&a.input, e))?;
+        let d = SceneDesc::from_toml(&text, &a.input.display().to_string())?;
+        (d, a.input.parent().map(Path::to_path_buf).unwrap_or_default())
+    } else {
+        let mut d = SceneDesc::default();
+        d.input.cloud = Some(a.input.clone());
+        (d, PathBuf::new())
+    };
+    macro_rules! set {
+        ($field:expr, $flag:expr) => {
+            if let Some(v) = $flag.clone() {
+                $field = Some(v);
+            }
+        };
+    }
+    set!(d.film.primitive, a.primitive);
+    set!(d.render.spp, a.spp);
+    set!(d.render.seed, a.seed);
+    set!(d.render.shading, a.shading);
+    set!(d.render.wavelengths, a.wavelengths);
+    set!(d.render.strategy, a.strategy);
+    set!(d.render.max_depth, a.max_depth);
+    set!(d.film.ior, a.ior);
+    set!(d.film.thickness_unit, a.thickness_unit);
+    set!(d.film.thickness_scale, a.thickness_scale);
+    set!(d.input.thickness_attr, a.thickness_attr);
+    set!(d.film.default_thickness_nm, a.default_thickness);
+    set!(d.film.radius_scale, a.radius_scale);
+    set!(d.environment.rotation, a.env_rotation);
+    set!(d.environment.intensity, a.env_intensity);
+    set!(d.camera.position, a.camera);
+    set!(d.camera.look_at, a.look_at);
+    set!(d.camera.fov, a.fov);
+    set!(d.output.exposure, a.exposure);
+    set!(d.output.tonemap, a.tonemap);
+    if let Some((w, h)) = a.size {
+        d.render.width = Some(w);
+        d.render.height = Some(h);
+    }
+    if let Some(env) = &a.env {
+        match env.as_str() {
+            "studio" => d.environment.kind = Some("studio".into()),
+            "white" => {
+                d.environment.kind = Some("uniform".into());
+                d.environment.colour = Some([1.0; 3]);
+            }
+            path => {
+                d.environment.kind = Some("map".into());
+                // A path given on the command line is relative to the working directory.
+                d.environment.map = Some(std::path::absolute(path).map_err(|e| Error::io(path, e))?);
+            }
+        }
+    }
+    Ok((d, base))
+}
+
+/// Runs `filmsplat render`.
+pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = match (&a.output, &desc.output.path) {
+        (Some(o), _) => o.clone(),
+        (None, Some(p)) => base.join(p),
+        (None, None) => PathBuf::from("render.png"),
+    };
+    for p in std::iter::once(&output).chain(a.exr.as_ref()) {
+        let ext = p.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        if !matches!(ext.as_deref(), Some("png" | "exr")) {
+            return Err(Error::invalid(format!("{}: output must end in .png or .exr", p.display())));
+        }
+    }
+    let progress = !a.quiet && std::io::stderr().is_terminal();
+    let prepared = pipeline::prepare(&desc, &base, progress)?;
+    let t = Instant::now();
+    let result = pipeline::render(&prepared)?;
+    let render_time = t.elapsed();
+    pipeline::write_image(&prepared, &result, &output)?;
+    if let Some(exr) = &a.exr {
+        pipeline::write_image(&prepared, &result, exr)?;
+    }
+    if !a.quiet {
+        let s = &prepared.settings;
+        let _ = writeln!(
+            out,
+            "{} particles ({}): load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); wrote {}",
+            prepared.particles,
+            prepared.scene.geometry.primitive(),
+            prepared.load_time.as_secs_f64(),
+            prepared.estimate_time.as_secs_f64(),
+            prepared.build_time.as_secs_f64(),
+            s.width,
+            s.height,
+            s.spp,
+            render_time.as_secs_f64(),
+            result.rays as f64 / render_time.as_secs_f64() / 1e6,
+            output.display()
+        );
+    }
+    Ok(())
+}
