@@ -1,0 +1,107 @@
+//! ASCII body decoding: one record per line, values separated by spaces or tabs.
+//!
+//! Lines holding only whitespace are ignored; elements without properties occupy no lines.
+//! Errors give the file's line number (counting the header lines).
+
+use std::io::Read;
+
+use super::header::{Element, Header, PropKind};
+use super::source::{Line, Source};
+use super::{Fail, Outputs, Plan, record_name};
+
+/// Longest body line accepted, in bytes.
+const MAX_LINE: usize = 1 << 20;
+
+/// Skips the elements before `vertex` (index `vi`) and parses `vertex` into `out`.
+pub(super) fn read<R: Read>(
+    src: &mut Source<R>,
+    header: &Header,
+    vi: usize,
+    plan: &Plan,
+    out: &mut Outputs,
+) -> Result<(), Fail> {
+    let mut line_no = header.lines;
+    for e in header.elements[..vi].iter().filter(|e| !e.props.is_empty()) {
+        for i in 0..e.count {
+            record_line(src, &mut line_no, e, i)?;
+        }
+    }
+    let v = &header.elements[vi];
+    for i in 0..v.count {
+        let line = record_line(src, &mut line_no, v, i)?;
+        let at = || format!("line {line_no}: {}", record_name(v, i));
+        let mut tokens = line
+            .split(|b| matches!(b, b' ' | b'\t' | b'\r' | b'\x0b' | b'\x0c'))
+            .filter(|t| !t.is_empty());
+        let mut next = |what: &str| -> Result<f64, Fail> {
+            let tok = tokens
+                .next()
+                .ok_or_else(|| Fail::msg(format!("{}: too few values (missing {what})", at())))?;
+            parse_number(tok).ok_or_else(|| {
+                let shown = super::header::show(&String::from_utf8_lossy(tok));
+                Fail::msg(format!("{}: '{shown}' is not a number", at()))
+            })
+        };
+        out.grow(1);
+        let row = out.len() - 1;
+        for (p, &t) in v.props.iter().zip(&plan.targets) {
+            match p.kind {
+                PropKind::Scalar(_) => {
+                    let x = next(&p.name)?;
+                    out.set(t, row, x as f32);
+                }
+                PropKind::List { .. } => {
+                    let n = next(&p.name)?;
+                    if n < 0.0 || n.fract() != 0.0 {
+                        return Err(Fail::msg(format!(
+                            "{}: list length {n} of '{}' is not a count",
+                            at(),
+                            super::header::show(&p.name)
+                        )));
+                    }
+                    // Each item needs a token, so this loop ends at the end of the line.
+                    let mut k = 0.0;
+                    while k < n {
+                        next(&p.name)?;
+                        k += 1.0;
+                    }
+                }
+            }
+        }
+        if tokens.next().is_some() {
+            return Err(Fail::msg(format!(
+                "{}: more values than the header's {} properties",
+                at(),
+                v.props.len()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Returns the next non-blank line, the one holding record `i` of `e`.
+fn record_line<'s, R: Read>(
+    src: &'s mut Source<R>,
+    line_no: &mut usize,
+    e: &Element,
+    i: u64,
+) -> Result<&'s [u8], Fail> {
+    match src.read_nonblank_line(MAX_LINE, line_no)? {
+        Line::Text(t) => Ok(t),
+        Line::TooLong => Err(Fail::msg(format!(
+            "line {}: longer than {MAX_LINE} bytes ({})",
+            *line_no,
+            record_name(e, i)
+        ))),
+        Line::Eof => Err(Fail::msg(format!(
+            "line {}: file ends before {} (file truncated?)",
+            *line_no + 1,
+            record_name(e, i)
+        ))),
+    }
+}
+
+/// Parses one ASCII number (integers and floats alike; `nan`/`inf` are accepted, not validated).
+fn parse_number(tok: &[u8]) -> Option<f64> {
+    std::str::from_utf8(tok).ok()?.parse::<f64>().ok()
+}
