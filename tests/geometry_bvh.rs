@@ -21,7 +21,11 @@ impl Rng {
     }
     fn unit(&mut self) -> Vec3 {
         loop {
-            let v = Vec3::new(self.range(-1., 1.), self.range(-1., 1.), self.range(-1., 1.));
+            let v = Vec3::new(
+                self.range(-1., 1.),
+                self.range(-1., 1.),
+                self.range(-1., 1.),
+            );
             let l = v.length_squared();
             if l > 1e-4 && l <= 1.0 {
                 return v / l.sqrt();
@@ -52,8 +56,17 @@ impl Scene {
         let mut best: Option<(f32, u32, f32)> = None;
         for i in 0..self.pos.len() {
             let h = match self.prim {
-                Primitive::Disk => intersect_disk(ray, self.pos[i], self.nrm[i].normalize(), self.rad[i], t_min, t_max),
-                Primitive::Sphere => intersect_sphere(ray, self.pos[i], self.rad[i], t_min, t_max).map(|t| (t, 0.0)),
+                Primitive::Disk => intersect_disk(
+                    ray,
+                    self.pos[i],
+                    self.nrm[i].normalize(),
+                    self.rad[i],
+                    t_min,
+                    t_max,
+                ),
+                Primitive::Sphere => {
+                    intersect_sphere(ray, self.pos[i], self.rad[i], t_min, t_max).map(|t| (t, 0.0))
+                }
             };
             if let Some((t, d2)) = h
                 && best.is_none_or(|b| t < b.0)
@@ -120,7 +133,10 @@ fn scenes() -> Vec<Scene> {
         random_scene(&mut rng, "single disk", Primitive::Disk, 1),
         random_scene(&mut rng, "single sphere", Primitive::Sphere, 1),
     ];
-    for (name, prim) in [("disks at one point", Primitive::Disk), ("spheres at one point", Primitive::Sphere)] {
+    for (name, prim) in [
+        ("disks at one point", Primitive::Disk),
+        ("spheres at one point", Primitive::Sphere),
+    ] {
         let mut s = random_scene(&mut rng, name, prim, 300);
         s.pos.iter_mut().for_each(|p| *p = Vec3::splat(0.5));
         v.push(s);
@@ -138,7 +154,11 @@ fn scenes() -> Vec<Scene> {
 fn rays(rng: &mut Rng, s: &Scene, count: usize) -> Vec<(Ray, f32, f32)> {
     let mut out = Vec::with_capacity(count);
     for k in 0..count {
-        let (t_min, t_max) = if k % 3 == 0 { (rng.range(0.0, 0.5), rng.range(0.5, 3.0)) } else { (0.0, f32::INFINITY) };
+        let (t_min, t_max) = if k % 3 == 0 {
+            (rng.range(0.0, 0.5), rng.range(0.5, 3.0))
+        } else {
+            (0.0, f32::INFINITY)
+        };
         let ray = match k % 6 {
             // Random origin and direction.
             0 | 1 => Ray::new(rng.in_box(-0.5, 1.5), rng.unit()),
@@ -151,7 +171,11 @@ fn rays(rng: &mut Rng, s: &Scene, count: usize) -> Vec<(Ray, f32, f32)> {
             // Parallel to the z = 0.4 plane, in it or near it.
             4 => {
                 let d = Vec3::new(rng.range(-1., 1.), rng.range(-1., 1.), 0.0);
-                let z = if k % 12 == 4 { 0.4 } else { rng.range(0.3, 0.5) };
+                let z = if k % 12 == 4 {
+                    0.4
+                } else {
+                    rng.range(0.3, 0.5)
+                };
                 Ray::new(Vec3::new(rng.range(-0.5, 1.5), rng.range(-0.5, 1.5), z), d)
             }
             // Starting at a particle centre (inside a sphere, on a disk).
@@ -178,7 +202,12 @@ fn bvh_matches_brute_force() {
                 (None, None) => {}
                 (Some((t, i, _)), Some(h)) => {
                     hits += 1;
-                    assert!((h.t - t).abs() <= 1e-5 * t.abs().max(1e-3), "{}: t {} vs {t}", ctx(), h.t);
+                    assert!(
+                        (h.t - t).abs() <= 1e-5 * t.abs().max(1e-3),
+                        "{}: t {} vs {t}",
+                        ctx(),
+                        h.t
+                    );
                     assert_eq!(h.particle, i, "{}", ctx());
                     assert!(h.t > t_min && h.t < t_max, "{}", ctx());
                     if s.prim == Primitive::Sphere {
@@ -188,12 +217,21 @@ fn bvh_matches_brute_force() {
                 }
                 (b, h) => panic!("{}: brute {b:?} vs bvh {h:?}", ctx()),
             }
-            assert_eq!(g.intersect_any(&ray, t_min, t_max), brute.is_some(), "{}", ctx());
+            assert_eq!(
+                g.intersect_any(&ray, t_min, t_max),
+                brute.is_some(),
+                "{}",
+                ctx()
+            );
 
             let hit = g.intersect(&ray, t_min, t_max);
             assert_eq!(hit.is_some(), brute.is_some(), "{}", ctx());
             let Some(hit) = hit else { continue };
-            assert!(hit.t > t_min && hit.t < t_max && hit.t <= hit.t_exit, "{}", ctx());
+            assert!(
+                hit.t > t_min && hit.t < t_max && hit.t <= hit.t_exit,
+                "{}",
+                ctx()
+            );
             assert!((hit.position - ray.at(hit.t)).length() < 1e-5, "{}", ctx());
             assert!((hit.normal.length() - 1.0).abs() < 1e-5, "{}", ctx());
             if s.prim == Primitive::Sphere {
@@ -204,8 +242,18 @@ fn bvh_matches_brute_force() {
             blended += (cov > 1) as usize;
             assert_eq!(hit.coverage, cov, "{}", ctx());
             assert_eq!(hit.t_exit, t_exit, "{}", ctx());
-            assert!((hit.thickness_nm - thk).abs() < 1e-3 * thk, "{}: {} vs {thk}", ctx(), hit.thickness_nm);
-            assert!((hit.normal - nrm).length() < 1e-4, "{}: {} vs {nrm}", ctx(), hit.normal);
+            assert!(
+                (hit.thickness_nm - thk).abs() < 1e-3 * thk,
+                "{}: {} vs {thk}",
+                ctx(),
+                hit.thickness_nm
+            );
+            assert!(
+                (hit.normal - nrm).length() < 1e-4,
+                "{}: {} vs {nrm}",
+                ctx(),
+                hit.normal
+            );
             assert_eq!(hit.particle, part, "{}", ctx());
         }
         // The test must exercise hits (and, for overlapping disks, real blending).
@@ -219,7 +267,10 @@ fn bvh_matches_brute_force() {
 
 #[test]
 fn rays_parallel_to_coplanar_disks_miss_without_nan() {
-    let s = scenes().into_iter().find(|s| s.name == "coplanar disks").unwrap();
+    let s = scenes()
+        .into_iter()
+        .find(|s| s.name == "coplanar disks")
+        .unwrap();
     let g = s.geometry();
     let mut rng = Rng(7);
     for _ in 0..500 {
@@ -233,7 +284,8 @@ fn rays_parallel_to_coplanar_disks_miss_without_nan() {
 #[test]
 fn ray_from_inside_a_sphere_hits_its_exit() {
     let pos = [Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0)];
-    let g = SplatGeometry::build(Primitive::Sphere, &pos, &[], &[2.0, 1.0], &[100.0, 200.0]).unwrap();
+    let g =
+        SplatGeometry::build(Primitive::Sphere, &pos, &[], &[2.0, 1.0], &[100.0, 200.0]).unwrap();
     let mut rng = Rng(3);
     for _ in 0..200 {
         let o = rng.unit() * rng.range(0.0, 1.9);
@@ -260,7 +312,10 @@ fn empty_and_invalid_input() {
     let r = vec![0.1; 4];
     let h = vec![300.0; 4];
     let err = |prim, p: &[Vec3], n: &[Vec3], r: &[f32], h: &[f32]| {
-        SplatGeometry::build(prim, p, n, r, h).err().map(|e| e.to_string()).unwrap_or_default()
+        SplatGeometry::build(prim, p, n, r, h)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
     };
     assert!(err(Primitive::Disk, &p, &n[..3], &r, &h).contains("normals has 3 entries"));
     assert!(err(Primitive::Disk, &p, &n, &r[..2], &h).contains("radii has 2 entries"));
@@ -276,11 +331,23 @@ fn empty_and_invalid_input() {
     assert!(err(Primitive::Sphere, &p, &[], &bad, &h).contains("particle 1 has an invalid radius"));
     let mut bad = h.clone();
     bad[0] = -1.0;
-    assert!(err(Primitive::Sphere, &p, &[], &r, &bad).contains("particle 0 has an invalid thickness"));
+    assert!(
+        err(Primitive::Sphere, &p, &[], &r, &bad).contains("particle 0 has an invalid thickness")
+    );
     // Spheres need no normals; a zero ray direction hits nothing.
     let g = SplatGeometry::build(Primitive::Sphere, &p, &[], &r, &h).unwrap();
     assert_eq!(g.primitive(), Primitive::Sphere);
-    let zero = Ray { origin: Vec3::new(0.0, 0.0, -1.0), dir: Vec3::ZERO };
+    let zero = Ray {
+        origin: Vec3::new(0.0, 0.0, -1.0),
+        dir: Vec3::ZERO,
+    };
     assert!(g.intersect(&zero, 0.0, f32::INFINITY).is_none());
-    assert!(g.intersect(&Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z), 0.0, f32::INFINITY).is_some());
+    assert!(
+        g.intersect(
+            &Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z),
+            0.0,
+            f32::INFINITY
+        )
+        .is_some()
+    );
 }
