@@ -1,1 +1,116 @@
-//! geometry stage (see the crate docs for its place).
+//! Ray-tracing geometry for particle splats: rays, boxes, disk/sphere intersection, a BVH and the
+//! disk-layer blending that turns a stack of overlapping splats into one film crossing.
+//!
+//! This module sees only positions, normals, radii and a per-particle thickness (an opaque `f32`
+//! it blends); it knows nothing of spectra or colours. Imports: `glam`, `rayon`, [`crate::error`].
+//!
+//! * [`Ray`], [`Aabb`]: the basic types (the slab test lives on [`Aabb`]).
+//! * [`primitives`]: ray–disk and ray–sphere tests and primitive bounds.
+//! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
+//! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
+//! * [`LayerBlend`]: parameters of the disk-layer blending.
+
+mod aabb;
+mod blend;
+mod bvh;
+mod bvh_build;
+pub mod primitives;
+mod splat;
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::Vec3;
+
+pub use aabb::Aabb;
+pub use blend::LayerBlend;
+pub use bvh::{Bvh, BvhNode, BvhParams};
+pub use splat::{SplatGeometry, SurfaceHit};
+
+/// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`
+/// for a zero or non-finite direction).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Start point, scene units.
+    pub origin: Vec3,
+    /// Unit direction.
+    pub dir: Vec3,
+}
+
+impl Ray {
+    /// A ray from `origin` along `dir` (normalised here; a zero `dir` stays zero and hits nothing).
+    pub fn new(origin: Vec3, dir: Vec3) -> Ray {
+        Ray {
+            origin,
+            dir: dir.normalize_or_zero(),
+        }
+    }
+
+    /// The point at distance `t` along the ray.
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + t * self.dir
+    }
+
+    /// True if the direction is usable (finite and roughly unit length).
+    #[inline]
+    pub(crate) fn is_valid(&self) -> bool {
+        let l = self.dir.length_squared();
+        l > 0.5 && l < 2.0 && self.origin.is_finite()
+    }
+}
+
+/// How particles are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Primitive {
+    /// An oriented disk (surfel) through the particle centre, perpendicular to its normal.
+    Disk,
+    /// A sphere around the particle centre (normals are not needed).
+    Sphere,
+}
+
+impl FromStr for Primitive {
+    type Err = crate::Error;
+
+    /// Parses `"disk"` or `"sphere"` (case-insensitive).
+    fn from_str(s: &str) -> crate::Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "disk" => Ok(Primitive::Disk),
+            "sphere" => Ok(Primitive::Sphere),
+            _ => Err(crate::Error::invalid(format!(
+                "unknown primitive '{s}' (expected 'disk' or 'sphere')"
+            ))),
+        }
+    }
+}
+
+impl fmt::Display for Primitive {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Primitive::Disk => "disk",
+            Primitive::Sphere => "sphere",
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn primitive_parses_and_prints() {
+        for p in [Primitive::Disk, Primitive::Sphere] {
+            assert_eq!(p.to_string().parse::<Primitive>().unwrap(), p);
+        }
+        assert_eq!("Sphere".parse::<Primitive>().unwrap(), Primitive::Sphere);
+        assert!("cube".parse::<Primitive>().is_err());
+    }
+
+    #[test]
+    fn ray_new_normalises() {
+        let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, 3.0, 4.0));
+        assert!((r.dir.length() - 1.0).abs() < 1e-6);
+        assert!((r.at(5.0) - Vec3::new(0.0, 3.0, 4.0)).length() < 1e-5);
+        assert!(!Ray::new(Vec3::ZERO, Vec3::ZERO).is_valid());
+    }
+}

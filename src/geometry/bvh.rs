@@ -1,0 +1,253 @@
+//! A bounding volume hierarchy over an arbitrary set of primitive boxes.
+//!
+//! Built with binned SAH (parallel recursion with `rayon::join`, see `bvh_build`), flattened
+//! depth-first into 32-byte [`BvhNode`]s: the left child of an interior node directly follows it,
+//! the right child is at `offset`. Leaves hold a contiguous range of *slots*; slot `s` stands for
+//! the caller's primitive `order()[s]`, so callers store their primitive data in slot order
+//! for locality and pass slot indices around.
+//!
+//! Queries take closures and are independent of the primitive type:
+//! [`Bvh::closest`] (closest hit, the closure shrinks `t_max`), [`Bvh::any`] (stops at the first
+//! `true`) and [`Bvh::visit_segment`] (every slot whose box overlaps a ray segment). Traversal
+//! is iterative with a fixed stack, visits the nearer child first, and culls stacked nodes whose
+//! entry distance is already beyond `t_max`.
+
+use glam::Vec3;
+
+use super::aabb::{SLAB_ROBUST, safe_inv_dir, slab};
+use super::{Aabb, Ray};
+
+/// One flattened node (32 bytes). Interior: `count == 0`, left child at `index + 1`, right child
+/// at `offset`. Leaf: slots `offset .. offset + count`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub struct BvhNode {
+    /// Lower corner of the node's bounds.
+    pub min: [f32; 3],
+    /// Right child index (interior) or first slot (leaf).
+    pub offset: u32,
+    /// Upper corner of the node's bounds.
+    pub max: [f32; 3],
+    /// Number of slots (leaf) or 0 (interior).
+    pub count: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
+
+impl BvhNode {
+    /// The node's bounds.
+    #[inline(always)]
+    pub fn bounds(&self) -> Aabb {
+        Aabb::new(Vec3::from_array(self.min), Vec3::from_array(self.max))
+    }
+
+    /// True for a leaf.
+    #[inline(always)]
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+/// Build parameters. The defaults suit cheap primitives (disks, spheres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BvhParams {
+    /// SAH bins per axis (clamped to 2..=64).
+    pub bins: usize,
+    /// Largest leaf the SAH may choose (nodes with more primitives are always split, unless all
+    /// their centroids coincide and the count is still below [`BvhParams::max_leaf`]'s cap).
+    pub max_leaf: usize,
+    /// Cost of a node visit relative to one primitive test.
+    pub traversal_cost: f32,
+    /// Nodes with at least this many primitives build their children in parallel.
+    pub parallel_threshold: usize,
+}
+
+impl Default for BvhParams {
+    fn default() -> Self {
+        BvhParams {
+            bins: 16,
+            max_leaf: 8,
+            traversal_cost: 1.0,
+            parallel_threshold: 4096,
+        }
+    }
+}
+
+/// Stack depth of the traversal. The builder switches to median splits below depth
+/// `bvh_build::MAX_SAH_DEPTH`, so trees stay shallower than this for any 32-bit primitive count.
+pub(crate) const STACK_SIZE: usize = 96;
+
+/// A flattened BVH (see the module docs). Memory: 32 bytes per node (about `2n / leaf size`
+/// nodes) plus 4 bytes per primitive for the slot order.
+#[derive(Clone, Debug, Default)]
+pub struct Bvh {
+    pub(crate) nodes: Vec<BvhNode>,
+    pub(crate) order: Vec<u32>,
+}
+
+impl Bvh {
+    /// Builds a BVH over `bounds` (one box per primitive; boxes must be finite and non-empty)
+    /// with default parameters. Cost: O(n log n), parallel over the rayon pool.
+    pub fn build(bounds: &[Aabb]) -> Bvh {
+        Self::build_with(bounds, BvhParams::default())
+    }
+
+    /// Builds with explicit parameters (see [`Bvh::build`]).
+    pub fn build_with(bounds: &[Aabb], params: BvhParams) -> Bvh {
+        let (nodes, order) = super::bvh_build::build(bounds, params);
+        Bvh { nodes, order }
+    }
+
+    /// `order()[slot]` is the index (into the `bounds` given to the build) of the primitive in
+    /// `slot`. Store primitive data in this order.
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// The flattened nodes (root first; empty for zero primitives).
+    pub fn nodes(&self) -> &[BvhNode] {
+        &self.nodes
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    /// True if the BVH holds no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    /// Bounds of everything (empty box for zero primitives).
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::EMPTY, BvhNode::bounds)
+    }
+
+    /// Heap bytes used by nodes and slot order.
+    pub fn memory_bytes(&self) -> usize {
+        self.nodes.capacity() * std::mem::size_of::<BvhNode>() + self.order.capacity() * 4
+    }
+
+    /// Closest-hit query. `hit(slot, &mut t_max)` must test the primitive in `slot` and, if it
+    /// finds a hit closer than `*t_max`, record it and lower `*t_max` (boxes entered beyond
+    /// `*t_max` are then skipped). The closure applies `t_min` itself.
+    #[inline]
+    pub fn closest<F: FnMut(u32, &mut f32)>(&self, ray: &Ray, t_min: f32, t_max: f32, mut hit: F) {
+        let mut t_max = t_max;
+        self.traverse(ray, t_min, &mut t_max, |first, count, t_max| {
+            for s in first..first + count {
+                hit(s, t_max);
+            }
+            false
+        });
+    }
+
+    /// Any-hit query: calls `hit(slot)` for primitives whose boxes the ray meets within
+    /// `[t_min, t_max]` until one returns `true`; returns whether one did.
+    #[inline]
+    pub fn any<F: FnMut(u32) -> bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        mut hit: F,
+    ) -> bool {
+        let mut t_max = t_max;
+        self.traverse(ray, t_min, &mut t_max, |first, count, _| {
+            (first..first + count).any(&mut hit)
+        })
+    }
+
+    /// Calls `visit(slot)` for every primitive whose box the segment `[t0, t1]` of the ray
+    /// overlaps (a superset of the primitives hit in that range).
+    #[inline]
+    pub fn visit_segment<F: FnMut(u32)>(&self, ray: &Ray, t0: f32, t1: f32, mut visit: F) {
+        let mut t_max = t1;
+        self.traverse(ray, t0, &mut t_max, |first, count, _| {
+            (first..first + count).for_each(&mut visit);
+            false
+        });
+    }
+
+    /// The traversal loop. `leaf(first, count, &mut t_max)` returns `true` to stop; the loop then
+    /// returns `true`.
+    #[inline(always)]
+    fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        mut leaf: L,
+    ) -> bool {
+        let nodes = &self.nodes[..];
+        let Some(root) = nodes.first() else {
+            return false;
+        };
+        let o = ray.origin;
+        let inv = safe_inv_dir(ray.dir);
+        let node_slab = |n: &BvhNode, t_max: f32| {
+            slab(
+                Vec3::from_array(n.min),
+                Vec3::from_array(n.max),
+                o,
+                inv,
+                t_min,
+                t_max,
+            )
+        };
+        if node_slab(root, *t_max).is_none() {
+            return false;
+        }
+        let mut stack = [(0u32, 0f32); STACK_SIZE];
+        let mut sp = 0usize;
+        let mut index = 0usize;
+        loop {
+            let node = &nodes[index];
+            if node.count > 0 {
+                if leaf(node.offset, node.count, t_max) {
+                    return true;
+                }
+            } else {
+                let left = index + 1;
+                let right = node.offset as usize;
+                let hl = node_slab(&nodes[left], *t_max);
+                let hr = node_slab(&nodes[right], *t_max);
+                match (hl, hr) {
+                    (Some((tl, _)), Some((tr, _))) => {
+                        let (near, far, t_far) = if tl <= tr {
+                            (left, right, tr)
+                        } else {
+                            (right, left, tl)
+                        };
+                        stack[sp] = (far as u32, t_far);
+                        sp += 1;
+                        index = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        index = left;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        index = right;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            // Pop the next node still in range.
+            loop {
+                if sp == 0 {
+                    return false;
+                }
+                sp -= 1;
+                let (i, t_enter) = stack[sp];
+                if t_enter <= *t_max * SLAB_ROBUST {
+                    index = i as usize;
+                    break;
+                }
+            }
+        }
+    }
+}
