@@ -1,6 +1,19 @@
-//! The particle cloud: what every reader produces and every geometry consumes.
+//! The particle cloud: what every reader produces and every geometry consumes, plus its
+//! validation ([`validate`]), estimation of missing attributes ([`estimate`]) and summary
+//! statistics ([`stats`]).
 
 use glam::Vec3;
+
+pub mod eigen;
+pub mod estimate;
+pub mod knn;
+pub mod orient;
+pub mod stats;
+pub mod validate;
+
+pub use estimate::{EstimateOptions, EstimateReport, fill_missing};
+pub use stats::{CloudStats, compute_stats};
+pub use validate::{RepairReport, repair, validate};
 
 /// A thin-film particle cloud. All per-particle arrays have `positions.len()` entries.
 #[derive(Debug, Clone, Default)]
@@ -26,5 +39,10 @@ impl PointCloud {
     /// True if the cloud has no particles.
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
+    }
+
+    /// The extra attribute called `name`, if present.
+    pub fn extra(&self, name: &str) -> Option<&[f32]> {
+        self.extra.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_slice())
     }
 }

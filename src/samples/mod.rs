@@ -1,1 +1,8 @@
 //! Sample scene generators: synthetic thin-film particle clouds (bubbles, films).
+
+pub mod bubble;
+pub mod fibonacci;
+pub mod rng;
+
+pub use bubble::{BubbleParams, bubble};
+pub use fibonacci::{fibonacci_sphere, fibonacci_spacing};
