@@ -44,6 +44,9 @@ fn stages_import_only_stages_below_them() {
         for f in files {
             let text = std::fs::read_to_string(&f).unwrap();
             for (i, line) in text.lines().enumerate() {
+                if line.trim_start().starts_with("//") {
+                    continue; // doc links may name any module
+                }
                 let mut rest = line;
                 while let Some(pos) = rest.find("crate::") {
                     rest = &rest[pos + 7..];

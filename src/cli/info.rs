@@ -2,7 +2,8 @@
 
 use crate::io::{ReadOptions, read_cloud};
 use crate::pipeline::thickness_unit_factor;
-use crate::pointcloud::{EstimateOptions, compute_stats, estimate_radii};
+use crate::pointcloud::estimate::estimate_radii;
+use crate::pointcloud::{EstimateOptions, compute_stats};
 use crate::Result;
 use clap::Args;
 use std::io::Write;

@@ -9,6 +9,9 @@
 //! scalar attribute lands in [`PointCloud::extra`]. Readers do not validate values.
 
 pub mod ply;
+mod write_ply;
+
+pub use write_ply::write_ply;
 
 use std::io::Read;
 use std::path::Path;

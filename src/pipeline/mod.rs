@@ -14,7 +14,7 @@ use crate::geometry::{Primitive, SplatGeometry};
 use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
-use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, median_spacing, validate};
+use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, validate};
 use crate::render::{Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode, Studio};
 use crate::samples::{BubbleParams, bubble};
 use crate::scene::SceneDesc;
@@ -51,7 +51,10 @@ pub struct Prepared {
     pub notes: Vec<String>,
 }
 
-fn parse_enum<T: std::str::FromStr<Err = String>>(v: &Option<String>, default: T, key: &str) -> Result<T> {
+fn parse_enum<T: std::str::FromStr>(v: &Option<String>, default: T, key: &str) -> Result<T>
+where
+    T::Err: std::fmt::Display,
+{
     match v {
         None => Ok(default),
         Some(s) => s.parse().map_err(|e| Error::invalid(format!("{key}: {e}"))),
@@ -194,7 +197,6 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let environment = environment(desc, base)?;
     let shader = FilmShader::new(ior, shading, wavelengths, strategy);
     let output = desc.output.path.as_ref().map(|p| base.join(p));
-    let _ = median_spacing; // re-exported for `info`
     Ok(Prepared {
         scene: Scene { geometry, camera, environment, layer_skip, epsilon },
         shader,

@@ -139,7 +139,7 @@ impl SceneDesc {
     pub fn from_toml(text: &str, name: &str) -> crate::Result<Self> {
         toml::from_str(text).map_err(|e| {
             let msg = e.message().to_string();
-            let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
             crate::Error::Format {
                 path: name.into(),
                 format: "scene TOML",

@@ -1,0 +1,66 @@
+//! Writing particle clouds as binary little-endian PLY (what `filmsplat sample` writes).
+
+use crate::error::{Error, Result};
+use crate::pointcloud::PointCloud;
+use std::io::Write;
+use std::path::Path;
+
+/// Writes `cloud` to `path` as binary little-endian PLY: `x y z`, then `nx ny nz`, `rh`
+/// (thickness in nm) and `radius` when present, then every extra attribute, all `float`.
+/// Written to a temporary file and renamed, so a failure never leaves a partial file.
+pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
+    let mut columns: Vec<(&str, &[f32])> = Vec::new();
+    let n = cloud.len();
+    let mut header = format!("ply\nformat binary_little_endian 1.0\ncomment written by filmsplat\nelement vertex {n}\n");
+    for name in ["x", "y", "z"] {
+        header.push_str(&format!("property float {name}\n"));
+    }
+    if cloud.normals.is_some() {
+        header.push_str("property float nx\nproperty float ny\nproperty float nz\n");
+    }
+    if let Some(t) = &cloud.thickness_nm {
+        columns.push(("rh", t));
+    }
+    if let Some(r) = &cloud.radius {
+        columns.push(("radius", r));
+    }
+    for (name, v) in &cloud.extra {
+        columns.push((name, v));
+    }
+    for (name, v) in &columns {
+        if v.len() != n {
+            return Err(Error::Internal(format!("attribute {name} has {} values for {n} particles", v.len())));
+        }
+        header.push_str(&format!("property float {name}\n"));
+    }
+    header.push_str("end_header\n");
+    let stride = 3 + if cloud.normals.is_some() { 3 } else { 0 } + columns.len();
+    let mut body = Vec::with_capacity(header.len() + n * stride * 4);
+    body.extend_from_slice(header.as_bytes());
+    for i in 0..n {
+        let mut put = |v: f32| body.extend_from_slice(&v.to_le_bytes());
+        let p = cloud.positions[i];
+        [p.x, p.y, p.z].into_iter().for_each(&mut put);
+        if let Some(nrm) = &cloud.normals {
+            let q = nrm[i];
+            [q.x, q.y, q.z].into_iter().for_each(&mut put);
+        }
+        for (_, v) in &columns {
+            put(v[i]);
+        }
+    }
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().ok_or_else(|| Error::invalid(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(".{}.tmp-{}", name.to_string_lossy(), std::process::id()));
+    let result = std::fs::File::create(&tmp)
+        .and_then(|mut f| {
+            f.write_all(&body)?;
+            f.sync_all()
+        })
+        .and_then(|_| std::fs::rename(&tmp, path));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(Error::io(path, e));
+    }
+    Ok(())
+}
