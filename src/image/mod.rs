@@ -1,1 +1,28 @@
-//! image stage (see the crate docs for its place).
+//! Image stage: linear-RGB pixel buffers, exposure and tone mapping to sRGB8, atomic PNG and
+//! EXR output, EXR input (environment maps), and chart drawing (text, lines, rectangles,
+//! viridis colour map).
+//!
+//! Everything here works on plain pixel arrays and imports nothing else from the crate except
+//! the error type. Pixel buffers are row-major with the top row first; colours are linear RGB
+//! unless a function says otherwise.
+
+mod atomic;
+mod buffer;
+mod colormap;
+pub mod draw;
+pub mod exr;
+mod font;
+mod png;
+pub mod text;
+mod tonemap;
+
+pub use atomic::write_atomic;
+pub use buffer::RgbImage;
+pub use colormap::viridis;
+pub use draw::{blend, draw_line, fill_rect, stroke_rect};
+pub use exr::{ExrLayers, read_exr, read_exr_rgba, write_exr};
+pub use png::{save_png, write_png, write_png_rgba};
+pub use text::{
+    Anchor, FontMetrics, HAlign, VAlign, draw_text, draw_text_vertical, font_metrics, text_width,
+};
+pub use tonemap::{ToneMap, encode_srgb8, linear_to_srgb, srgb_to_linear, to_srgb8};

@@ -1,0 +1,150 @@
+//! All-or-nothing file output: write a temporary file beside the target, fsync, rename.
+
+use std::fs::{self, File, OpenOptions};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::{Error, Result};
+
+/// Distinguishes concurrent writes from the same process.
+static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `path` atomically: `f` writes into a temporary file `.NAME.tmp-PID-N` in the same
+/// directory, which is then flushed, fsynced and renamed over `path`.
+///
+/// Readers therefore see either the old file or the complete new one. On any error (from `f`,
+/// flushing, syncing or renaming) the temporary file is removed and the target is left untouched.
+/// I/O errors name the path concerned. Cost: one extra fsync per file.
+pub fn write_atomic(path: &Path, f: impl FnOnce(&mut BufWriter<File>) -> Result<()>) -> Result<()> {
+    let tmp = temp_path(path)?;
+    let file = OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(|e| Error::io(path, e))?;
+    let result = write_and_sync(path, file, f)
+        .and_then(|()| fs::rename(&tmp, path).map_err(|e| Error::io(path, e)));
+    match result {
+        Ok(()) => {
+            sync_parent(path);
+            Ok(())
+        }
+        Err(e) => {
+            let _ = fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+fn write_and_sync(
+    path: &Path,
+    file: File,
+    f: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
+) -> Result<()> {
+    let mut w = BufWriter::new(file);
+    f(&mut w)?;
+    w.flush().map_err(|e| Error::io(path, e))?;
+    let file = w
+        .into_inner()
+        .map_err(|e| Error::io(path, e.into_error()))?;
+    file.sync_all().map_err(|e| Error::io(path, e))
+}
+
+/// `dir/.name.tmp-PID-N` for target `dir/name`.
+fn temp_path(path: &Path) -> Result<PathBuf> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::invalid(format!("{}: not a file name", path.display())))?;
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let tmp_name = format!(".{}.tmp-{}-{n}", name.to_string_lossy(), std::process::id());
+    Ok(path.with_file_name(tmp_name))
+}
+
+/// Makes the rename durable by syncing the directory (best effort; not possible on all systems).
+fn sync_parent(path: &Path) {
+    #[cfg(unix)]
+    {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        if let Ok(d) = File::open(dir) {
+            let _ = d.sync_all();
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let d =
+            std::env::temp_dir().join(format!("filmsplat-atomic-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&d);
+        fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn entries(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> = fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn writes_and_replaces() {
+        let d = scratch("ok");
+        let p = d.join("out.txt");
+        write_atomic(&p, |w| w.write_all(b"one").map_err(|e| Error::io(&p, e))).unwrap();
+        write_atomic(&p, |w| w.write_all(b"two").map_err(|e| Error::io(&p, e))).unwrap();
+        assert_eq!(fs::read(&p).unwrap(), b"two");
+        assert_eq!(entries(&d), vec!["out.txt"]);
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn failure_leaves_no_temp_and_keeps_old_file() {
+        let d = scratch("fail");
+        let p = d.join("out.txt");
+        fs::write(&p, b"old").unwrap();
+        let err = write_atomic(&p, |w| {
+            w.write_all(&[7u8; 100_000]).unwrap(); // more than the buffer: reaches the temp file
+            Err(Error::invalid("encoder failed"))
+        })
+        .unwrap_err();
+        assert!(err.to_string().contains("encoder failed"));
+        assert_eq!(fs::read(&p).unwrap(), b"old");
+        assert_eq!(entries(&d), vec!["out.txt"]);
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn missing_directory_is_an_error_naming_the_path() {
+        let d = scratch("nodir");
+        let p = d.join("no/such/dir/out.txt");
+        let err = write_atomic(&p, |_| Ok(())).unwrap_err();
+        assert!(err.to_string().contains("no/such/dir/out.txt"), "{err}");
+        assert!(entries(&d).is_empty());
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn rename_failure_cleans_up() {
+        // Renaming a file over a non-empty directory fails.
+        let d = scratch("rename");
+        let p = d.join("target");
+        fs::create_dir(&p).unwrap();
+        fs::write(p.join("inner"), b"x").unwrap();
+        let err = write_atomic(&p, |w| w.write_all(b"data").map_err(|e| Error::io(&p, e)));
+        assert!(err.is_err());
+        assert_eq!(entries(&d), vec!["target"]);
+        fs::remove_dir_all(&d).unwrap();
+    }
+}

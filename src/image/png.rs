@@ -1,0 +1,94 @@
+//! 8-bit PNG output (via the `image` crate's encoder), written atomically.
+
+use std::path::Path;
+
+use ::image::codecs::png::PngEncoder;
+use ::image::{ExtendedColorType, ImageEncoder};
+
+use super::atomic::write_atomic;
+use super::buffer::RgbImage;
+use super::tonemap::{ToneMap, to_srgb8};
+use crate::{Error, Result};
+
+/// Writes packed sRGB-encoded RGB8 pixels (`3 * width * height` bytes, top row first) as a PNG.
+/// Atomic (see [`write_atomic`]): no partial file is left on error.
+pub fn write_png(path: &Path, width: usize, height: usize, rgb8: &[u8]) -> Result<()> {
+    write_png_impl(path, width, height, rgb8, 3, ExtendedColorType::Rgb8)
+}
+
+/// Writes packed RGBA8 pixels (`4 * width * height` bytes, straight alpha, sRGB colour) as a PNG.
+pub fn write_png_rgba(path: &Path, width: usize, height: usize, rgba8: &[u8]) -> Result<()> {
+    write_png_impl(path, width, height, rgba8, 4, ExtendedColorType::Rgba8)
+}
+
+/// Exposes, tone maps and encodes `img` (see [`to_srgb8`]) and writes it as an RGB PNG.
+pub fn save_png(path: &Path, img: &RgbImage, exposure_ev: f32, tone: ToneMap) -> Result<()> {
+    write_png(
+        path,
+        img.width,
+        img.height,
+        &to_srgb8(img, exposure_ev, tone),
+    )
+}
+
+fn write_png_impl(
+    path: &Path,
+    width: usize,
+    height: usize,
+    bytes: &[u8],
+    channels: usize,
+    colour: ExtendedColorType,
+) -> Result<()> {
+    let fail = |message: String| Error::Format {
+        path: path.into(),
+        format: "PNG",
+        message,
+    };
+    let (w, h) = match (u32::try_from(width), u32::try_from(height)) {
+        (Ok(w), Ok(h)) if w > 0 && h > 0 => (w, h),
+        _ => return Err(fail(format!("cannot write a {width} x {height} image"))),
+    };
+    let expected = width
+        .checked_mul(height)
+        .and_then(|n| n.checked_mul(channels));
+    if expected != Some(bytes.len()) {
+        return Err(fail(format!(
+            "pixel buffer has {} bytes, expected {width} x {height} x {channels}",
+            bytes.len()
+        )));
+    }
+    write_atomic(path, |out| {
+        PngEncoder::new(out)
+            .write_image(bytes, w, h, colour)
+            .map_err(|e| match e {
+                ::image::ImageError::IoError(io) => Error::io(path, io),
+                other => fail(other.to_string()),
+            })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_a_valid_png_and_rejects_bad_sizes() {
+        let dir = std::env::temp_dir().join(format!("filmsplat-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("t.png");
+        let px: Vec<u8> = (0..2 * 3 * 3).map(|i| (i * 13) as u8).collect();
+        write_png(&p, 3, 2, &px).unwrap();
+        let back = ::image::open(&p).unwrap().to_rgb8();
+        assert_eq!((back.width(), back.height()), (3, 2));
+        assert_eq!(back.as_raw(), &px);
+
+        let rgba: Vec<u8> = (0..4 * 4).map(|i| (i * 17) as u8).collect();
+        write_png_rgba(&p, 2, 2, &rgba).unwrap();
+        assert_eq!(::image::open(&p).unwrap().to_rgba8().as_raw(), &rgba);
+
+        assert!(write_png(&p, 3, 3, &px).is_err());
+        assert!(write_png(&p, 0, 0, &[]).is_err());
+        assert!(write_png(&dir.join("missing/t.png"), 3, 2, &px).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
