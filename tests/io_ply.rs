@@ -447,6 +447,10 @@ fn malformed_files_give_clear_errors() {
         format!("ply\nformat ascii 1.0\n{one}end_header\n1 2 3 4\n").as_bytes(),
     );
     assert!(m.contains("line 8") && m.contains("more values"), "{m}");
+    let mut b = format!("ply\nformat ascii 1.0\n{one}end_header\n1 ").into_bytes();
+    b.extend(b"\xff 3\n");
+    let m = fail(&dir, "bin_in_ascii.ply", &b);
+    assert!(m.contains("line 8") && m.contains("not text"), "{m}");
     let m = fail(
         &dir,
         "fmt.ply",
