@@ -1,128 +1,14 @@
 //! PLY reader: exact values in all three encodings, attribute mapping, skipping of lists and
-//! other elements, real files, and a clean error (never a panic) for every malformed input.
+//! other elements, format dispatch, and real files.
+
+mod io_support;
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use filmsplat::Error;
 use filmsplat::io::{ReadOptions, read_cloud};
-use filmsplat::pointcloud::PointCloud;
 use glam::Vec3;
-
-/// A fresh directory for one test.
-fn tmp(test: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("io_ply")
-        .join(test);
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let p = dir.join(name);
-    // Unlink first: truncating an existing file makes ext4 flush it to disk (auto_da_alloc).
-    let _ = fs::remove_file(&p);
-    fs::write(&p, bytes).unwrap();
-    p
-}
-
-/// One typed value, written in any encoding.
-#[derive(Clone, Copy, Debug)]
-enum V {
-    I8(i8),
-    U8(u8),
-    I16(i16),
-    U16(u16),
-    I32(i32),
-    U32(u32),
-    F32(f32),
-    F64(f64),
-}
-
-impl V {
-    fn bytes(self, be: bool, out: &mut Vec<u8>) {
-        macro_rules! b {
-            ($x:expr) => {
-                out.extend(if be {
-                    $x.to_be_bytes()
-                } else {
-                    $x.to_le_bytes()
-                })
-            };
-        }
-        match self {
-            V::I8(x) => b!(x),
-            V::U8(x) => b!(x),
-            V::I16(x) => b!(x),
-            V::U16(x) => b!(x),
-            V::I32(x) => b!(x),
-            V::U32(x) => b!(x),
-            V::F32(x) => b!(x),
-            V::F64(x) => b!(x),
-        }
-    }
-
-    fn text(self) -> String {
-        match self {
-            V::I8(x) => x.to_string(),
-            V::U8(x) => x.to_string(),
-            V::I16(x) => x.to_string(),
-            V::U16(x) => x.to_string(),
-            V::I32(x) => x.to_string(),
-            V::U32(x) => x.to_string(),
-            V::F32(x) => format!("{x:?}"),
-            V::F64(x) => format!("{x:?}"),
-        }
-    }
-
-    fn f32(self) -> f32 {
-        match self {
-            V::I8(x) => x as f32,
-            V::U8(x) => x as f32,
-            V::I16(x) => x as f32,
-            V::U16(x) => x as f32,
-            V::I32(x) => x as f32,
-            V::U32(x) => x as f32,
-            V::F32(x) => x,
-            V::F64(x) => x as f32,
-        }
-    }
-}
-
-/// `records` in the given encoding after `header` (property lines etc., no format/end_header).
-/// Each record is a list of values; in ASCII one line per record.
-fn ply(format: &str, header: &str, records: &[Vec<V>]) -> Vec<u8> {
-    let mut out =
-        format!("ply\nformat {format} 1.0\ncomment test\n{header}end_header\n").into_bytes();
-    for r in records {
-        match format {
-            "ascii" => {
-                let line: Vec<String> = r.iter().map(|v| v.text()).collect();
-                out.extend(line.join(" ").bytes());
-                out.push(b'\n');
-            }
-            _ => r
-                .iter()
-                .for_each(|v| v.bytes(format == "binary_big_endian", &mut out)),
-        }
-    }
-    out
-}
-
-const FORMATS: [&str; 3] = ["ascii", "binary_little_endian", "binary_big_endian"];
-
-fn read(p: &Path) -> PointCloud {
-    read_cloud(p, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn extra<'a>(c: &'a PointCloud, name: &str) -> &'a [f32] {
-    &c.extra
-        .iter()
-        .find(|(n, _)| n == name)
-        .unwrap_or_else(|| panic!("no {name}"))
-        .1
-}
+use io_support::{FORMATS, V, extra, ply, read, tmp, write};
 
 #[test]
 fn all_types_all_encodings_exact() {
@@ -388,241 +274,6 @@ fn dispatch_by_magic_then_extension() {
     assert!(e.to_string().contains("not a PLY file"), "{e}");
 }
 
-/// Reads `bytes` as `name` and returns the error message, checking its form.
-fn fail(dir: &Path, name: &str, bytes: &[u8]) -> String {
-    let p = write(dir, name, bytes);
-    let e = read_cloud(&p, &ReadOptions::default()).expect_err(name);
-    let m = e.to_string();
-    assert!(m.contains(name), "message must name the file: {m}");
-    assert!(!m.contains('\n'), "one line: {m}");
-    assert!(matches!(e, Error::Format { format: "PLY", .. }), "{m}");
-    assert!(m.contains("PLY"), "{m}");
-    m
-}
-
-const XYZ: &str = "element vertex 5\nproperty float x\nproperty float y\nproperty float z\n";
-
-fn xyz_records(n: usize) -> Vec<Vec<V>> {
-    (0..n)
-        .map(|i| vec![V::F32(i as f32), V::F32(0.5), V::F32(-1.0)])
-        .collect()
-}
-
-#[test]
-fn malformed_files_give_clear_errors() {
-    let dir = tmp("malformed");
-    let le = "binary_little_endian";
-    let full = ply(le, XYZ, &xyz_records(5));
-    // Truncated in the middle of vertex 3 (each vertex is 12 bytes).
-    let m = fail(&dir, "trunc.ply", &full[..full.len() - 12 - 6]);
-    assert!(m.contains("vertex 3 of 5"), "{m}");
-    let m = fail(&dir, "trunc_ascii.ply", &ply("ascii", XYZ, &xyz_records(4)));
-    assert!(
-        m.contains("line 13") && m.contains("vertex 4 of 5") && m.contains("ends"),
-        "{m}"
-    );
-    let m = fail(
-        &dir,
-        "garbage.ply",
-        format!(
-            "ply\nformat ascii 1.0\n{XYZ}end_header\n\
-        1 2 3\n\n4 5 6\n7 zz 9\n"
-        )
-        .as_bytes(),
-    );
-    assert!(
-        m.contains("line 11") && m.contains("vertex 2 of 5") && m.contains("'zz'"),
-        "{m}"
-    );
-    let one = XYZ.replace("vertex 5", "vertex 1");
-    let m = fail(
-        &dir,
-        "few.ply",
-        format!("ply\nformat ascii 1.0\n{one}end_header\n1 2\n").as_bytes(),
-    );
-    assert!(m.contains("line 8") && m.contains("too few values"), "{m}");
-    let m = fail(
-        &dir,
-        "many.ply",
-        format!("ply\nformat ascii 1.0\n{one}end_header\n1 2 3 4\n").as_bytes(),
-    );
-    assert!(m.contains("line 8") && m.contains("more values"), "{m}");
-    let m = fail(
-        &dir,
-        "fmt.ply",
-        format!("ply\nformat binary_middle_endian 1.0\n{XYZ}end_header\n").as_bytes(),
-    );
-    assert!(m.contains("line 2") && m.contains("unknown format"), "{m}");
-    let m = fail(
-        &dir,
-        "noend.ply",
-        format!("ply\nformat ascii 1.0\n{XYZ}").as_bytes(),
-    );
-    assert!(m.contains("no end_header"), "{m}");
-    let renamed = String::from_utf8_lossy(&full).replace("end_header", "end_headr");
-    let m = fail(&dir, "noend_bin.ply", renamed.as_bytes());
-    assert!(m.contains("end_header"), "{m}");
-    let m = fail(
-        &dir,
-        "noz.ply",
-        &ply(
-            le,
-            "element vertex 1\nproperty float x\nproperty float y\n\
-        property float w\n",
-            &[vec![V::F32(0.0); 3]],
-        ),
-    );
-    assert!(
-        m.contains("no 'z' property") && m.contains("x, y, w"),
-        "{m}"
-    );
-    let m = fail(
-        &dir,
-        "listx.ply",
-        &ply(
-            le,
-            "element vertex 1\nproperty list uchar float x\n\
-        property float y\nproperty float z\n",
-            &[vec![V::U8(0), V::F32(0.0), V::F32(0.0)]],
-        ),
-    );
-    assert!(m.contains("'x'") && m.contains("is a list"), "{m}");
-    let m = fail(
-        &dir,
-        "listrh.ply",
-        &ply(le, &format!("{XYZ}property list uchar float rh\n"), &[]),
-    );
-    assert!(m.contains("'rh'") && m.contains("is a list"), "{m}");
-    let m = fail(
-        &dir,
-        "partial_n.ply",
-        &ply(
-            le,
-            &format!("{XYZ}property float nx\nproperty float ny\n"),
-            &[],
-        ),
-    );
-    assert!(m.contains("incomplete normal"), "{m}");
-    let m = fail(
-        &dir,
-        "novertex.ply",
-        &ply(
-            le,
-            "element point 1\nproperty float x\n",
-            &[vec![V::F32(0.0)]],
-        ),
-    );
-    assert!(m.contains("no 'vertex' element"), "{m}");
-    let m = fail(&dir, "empty.ply", b"");
-    assert!(m.contains("empty file"), "{m}");
-    let m = fail(&dir, "notply.ply", b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR");
-    assert!(m.contains("not a PLY file"), "{m}");
-    let h = format!("element face 2\nproperty list char int v\n{XYZ}");
-    let m = fail(
-        &dir,
-        "neglist.ply",
-        &ply(
-            le,
-            &h,
-            &[&[vec![V::I8(-1)], vec![V::I8(0)]][..], &xyz_records(5)].concat(),
-        ),
-    );
-    assert!(
-        m.contains("negative list length") && m.contains("face 0 of 2"),
-        "{m}"
-    );
-    // The list count claims more items than the file holds.
-    let mut b = ply(le, &h, &[vec![V::I8(0)], vec![V::I8(100), V::I32(1)]]);
-    b.extend([0u8; 60]);
-    let m = fail(&dir, "longlist.ply", &b);
-    assert!(m.contains("face 1 of 2") && m.contains("truncated"), "{m}");
-}
-
-#[test]
-fn absurd_counts_fail_before_allocating() {
-    let dir = tmp("absurd");
-    for f in FORMATS {
-        let h =
-            "element vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\n";
-        let name = format!("absurd_{f}.ply");
-        let m = fail(&dir, &name, &ply(f, h, &xyz_records(2)));
-        assert!(
-            m.contains("too short") && m.contains("1000000000000"),
-            "{m}"
-        );
-        if f != "ascii" {
-            assert!(m.contains("in vertex 2 of 1000000000000"), "{m}");
-        }
-    }
-    // 2^64 - 1 vertices of 2^16 list items before them: the products must not overflow.
-    let h = "element face 18446744073709551615\nproperty list uint double v\n\
-        element vertex 18446744073709551615\nproperty double x\nproperty double y\nproperty double z\n";
-    let m = fail(&dir, "overflow.ply", &ply("binary_big_endian", h, &[]));
-    assert!(
-        m.contains("too short") && m.contains("at or before face 0"),
-        "{m}"
-    );
-}
-
-#[test]
-fn missing_files_and_directories() {
-    let dir = tmp("paths");
-    for (p, want) in [
-        (dir.join("missing.ply"), "missing.ply"),
-        (dir.clone(), "paths"),
-    ] {
-        let e = read_cloud(&p, &ReadOptions::default()).unwrap_err();
-        assert!(matches!(e, Error::Io { .. }), "{e:?}");
-        let m = e.to_string();
-        assert!(m.contains(want) && !m.contains('\n'), "{m}");
-        let e = filmsplat::io::ply::read(&p, &ReadOptions::default()).unwrap_err();
-        assert!(e.to_string().contains(want), "{e}");
-    }
-}
-
-/// Every prefix of a valid file is an error (not a panic) unless it holds all vertices; random
-/// byte corruptions never panic.
-#[test]
-fn truncations_and_corruptions_never_panic() {
-    let dir = tmp("fuzz");
-    for f in FORMATS {
-        let h = format!("element face 1\nproperty list uchar int v\n{XYZ}property float rh\n");
-        let mut recs = vec![vec![V::U8(2), V::I32(1), V::I32(2)]];
-        recs.extend(xyz_records(5).into_iter().map(|mut r| {
-            r.push(V::F32(100.0));
-            r
-        }));
-        let full = ply(f, &h, &recs);
-        let name = format!("t_{f}.ply");
-        let p = dir.join(&name);
-        let opts = ReadOptions::default();
-        for len in 0..full.len() {
-            // ASCII: the last value "100.0\n" may lose up to 5 bytes and still be a number.
-            let end_ok = f == "ascii" && len >= full.len() - 5;
-            write(&dir, &name, &full[..len]);
-            let r = read_cloud(&p, &opts);
-            assert_eq!(r.is_ok(), end_ok, "{f} len {len}: {:?}", r.err());
-        }
-        write(&dir, &name, &full);
-        assert_eq!(read_cloud(&p, &opts).unwrap().len(), 5);
-        let mut state = 0x2545f4914f6cdd1du64;
-        for _ in 0..300 {
-            let mut b = full.clone();
-            for _ in 0..3 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                let i = (state % b.len() as u64) as usize;
-                b[i] = (state >> 32) as u8;
-            }
-            write(&dir, &name, &b);
-            if let Err(e) = read_cloud(&p, &opts) {
-                assert!(e.to_string().contains("t_"), "{e}");
-            }
-        }
-    }
-}
-
 /// Decodes record `i` (5 little-endian 4-byte fields) straight from the file, as an oracle.
 fn raw_record(bytes: &[u8], stride: usize, i: usize) -> Vec<[u8; 4]> {
     let body = bytes
@@ -676,4 +327,20 @@ fn real_double_dam_break() {
         assert_eq!(extra(&c, "velocity_y")[i], f(4));
     }
     assert!((extra(&c, "velocity_y")[0] - -1.556548).abs() < 1e-6);
+}
+
+#[test]
+fn ascii_crlf_tabs_blank_lines_and_special_numbers() {
+    let dir = tmp("crlf");
+    let text = "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n\
+        property float y\r\nproperty double z\r\nend_header\r\n\
+        1\t2 \t3\r\n\r\n  -4.5e1 +.5 1e-3  \r\nnan inf -infinity";
+    let c = read(&write(&dir, "crlf.ply", text.as_bytes()));
+    assert_eq!(c.positions[0], Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(c.positions[1], Vec3::new(-45.0, 0.5, 1e-3));
+    let p = c.positions[2];
+    assert!(
+        p.x.is_nan() && p.y == f32::INFINITY && p.z == f32::NEG_INFINITY,
+        "not validated"
+    );
 }

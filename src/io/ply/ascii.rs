@@ -30,15 +30,16 @@ pub(super) fn read<R: Read>(
     for i in 0..v.count {
         let line = record_line(src, &mut line_no, v, i)?;
         let at = || format!("line {line_no}: {}", record_name(v, i));
-        let mut tokens = line
-            .split(|b| matches!(b, b' ' | b'\t' | b'\r' | b'\x0b' | b'\x0c'))
-            .filter(|t| !t.is_empty());
+        let text = std::str::from_utf8(line)
+            .map_err(|_| Fail::msg(format!("{}: not text (binary data?)", at())))?;
+        let mut tokens = text.split_ascii_whitespace();
         let mut next = |what: &str| -> Result<f64, Fail> {
             let tok = tokens
                 .next()
                 .ok_or_else(|| Fail::msg(format!("{}: too few values (missing {what})", at())))?;
-            parse_number(tok).ok_or_else(|| {
-                let shown = super::header::show(&String::from_utf8_lossy(tok));
+            // Integers and floats alike; `nan`/`inf` are accepted (values are not validated).
+            tok.parse::<f64>().map_err(|_| {
+                let shown = super::header::show(tok);
                 Fail::msg(format!("{}: '{shown}' is not a number", at()))
             })
         };
@@ -99,9 +100,4 @@ fn record_line<'s, R: Read>(
             record_name(e, i)
         ))),
     }
-}
-
-/// Parses one ASCII number (integers and floats alike; `nan`/`inf` are accepted, not validated).
-fn parse_number(tok: &[u8]) -> Option<f64> {
-    std::str::from_utf8(tok).ok()?.parse::<f64>().ok()
 }

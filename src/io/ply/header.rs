@@ -5,6 +5,7 @@
 //! binary offset after it, (b) its errors are multi-line, and (c) we need the exact byte offset
 //! where the body starts; the grammar is ~100 lines anyway.
 
+use std::collections::HashSet;
 use std::io::Read;
 
 use super::Fail;
@@ -140,6 +141,9 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
     let mut n = 0usize;
+    // Names seen so far (sets keep huge adversarial headers linear).
+    let mut element_names = HashSet::new();
+    let mut prop_names = HashSet::new();
     loop {
         n += 1;
         let raw = match src.read_line(MAX_HEADER_LINE)? {
@@ -200,7 +204,7 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
                 let count = count
                     .parse::<u64>()
                     .map_err(|_| bad("invalid element count"))?;
-                if elements.iter().any(|e| e.name == name) {
+                if !element_names.insert(name.to_string()) {
                     return Err(bad("element declared twice"));
                 }
                 elements.push(Element {
@@ -210,6 +214,7 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
                 });
             }
             "property" => {
+                let element_index = elements.len();
                 let Some(element) = elements.last_mut() else {
                     return Err(bad("property before any element"));
                 };
@@ -234,7 +239,7 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
                         ));
                     }
                 };
-                if element.props.iter().any(|p| p.name == name) {
+                if !prop_names.insert((element_index, name.to_string())) {
                     return Err(bad("property declared twice in this element"));
                 }
                 element.props.push(Property {
