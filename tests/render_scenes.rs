@@ -61,7 +61,7 @@ fn a_white_furnace_makes_a_lossless_film_vanish() {
         cloud.thickness_nm.as_ref().unwrap(),
     )
     .unwrap();
-    let camera = Camera::frame(&geometry.bounds(), Vec3::new(0.3, 0.2, 1.0), Vec3::Y, 40.0, 4.0 / 3.0);
+    let camera = Camera::frame(Vec3::ZERO, 1.05, Vec3::new(0.3, 0.2, 1.0), Vec3::Y, 40.0, 4.0 / 3.0);
     let scene = Scene { geometry, camera, environment: Environment::Uniform(Vec3::ONE), layer_skip: 0.005, epsilon: 1e-5 };
     for mode in [ShadingMode::Lut, ShadingMode::Rgb] {
         let shader = FilmShader::new(1.33, mode, 8, WavelengthStrategy::Hero);

@@ -193,7 +193,14 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         Primitive::Disk => 0.5 * median_radius,
         Primitive::Sphere => epsilon,
     };
-    let camera = camera(desc, &bounds, settings.width as f32 / settings.height as f32)?;
+    let centre = 0.5 * (bounds.min + bounds.max);
+    let reach = cloud
+        .positions
+        .iter()
+        .zip(&radii)
+        .map(|(p, r)| (*p - centre).length() + r)
+        .fold(0.0f32, f32::max);
+    let camera = camera(desc, centre, reach, settings.width as f32 / settings.height as f32)?;
     let environment = environment(desc, base)?;
     let shader = FilmShader::new(ior, shading, wavelengths, strategy);
     let output = desc.output.path.as_ref().map(|p| base.join(p));
@@ -217,14 +224,13 @@ fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
     if v.is_finite() { Ok(v) } else { Err(Error::invalid(format!("{key} must be finite"))) }
 }
 
-fn camera(desc: &SceneDesc, bounds: &crate::geometry::Aabb, aspect: f32) -> Result<Camera> {
+fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Camera> {
     let c = &desc.camera;
     let fov = c.fov.unwrap_or(40.0);
     if !(1.0..=170.0).contains(&fov) {
         return Err(Error::invalid(format!("camera.fov must be 1..170 degrees, got {fov}")));
     }
     let up = vec3(c.up.unwrap_or([0.0, 1.0, 0.0]), "camera.up")?;
-    let centre = 0.5 * (bounds.min + bounds.max);
     match c.position {
         Some(p) => {
             let target = c.look_at.map(|t| vec3(t, "camera.look_at")).transpose()?.unwrap_or(centre);
@@ -236,7 +242,7 @@ fn camera(desc: &SceneDesc, bounds: &crate::geometry::Aabb, aspect: f32) -> Resu
         }
         None => {
             let from = vec3(c.from.unwrap_or([0.35, 0.3, 1.0]), "camera.from")?;
-            Ok(Camera::frame(bounds, from, up, fov, aspect))
+            Ok(Camera::frame(centre, reach, from, up, fov, aspect))
         }
     }
 }

@@ -1,6 +1,6 @@
 //! Pinhole camera: look-at placement, vertical field of view, and auto-framing of a cloud.
 
-use crate::geometry::{Aabb, Ray};
+use crate::geometry::Ray;
 use glam::Vec3;
 
 /// A pinhole camera. Directions: `forward` looks at the target, `up` is the image's up.
@@ -34,15 +34,16 @@ impl Camera {
         Camera { position, forward, right, up, tan_half_fov: (0.5 * fov).tan() }
     }
 
-    /// Frames `bounds` from direction `from` (pointing from the target toward the camera), so the
-    /// bounding sphere fills the smaller image dimension with a small margin.
-    pub fn frame(bounds: &Aabb, from: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32) -> Self {
-        let centre = 0.5 * (bounds.min + bounds.max);
-        let radius = (0.5 * (bounds.max - bounds.min).length()).max(1e-6);
+    /// Frames a bounding sphere (`centre`, `radius`, scene units) from direction `from` (pointing
+    /// from the centre toward the camera), so the sphere fills the smaller image dimension with
+    /// a small margin. Use the cloud's real bounding sphere, not its box's, or a round cloud
+    /// ends up small in the frame.
+    pub fn frame(centre: Vec3, radius: f32, from: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32) -> Self {
+        let radius = radius.max(1e-6);
         let half = 0.5 * fov_y_deg.clamp(1.0, 170.0).to_radians();
         // The narrower of the two half-angles decides.
         let half_min = if aspect < 1.0 { (half.tan() * aspect).atan() } else { half };
-        let distance = 1.08 * radius / half_min.sin();
+        let distance = 1.05 * radius / half_min.sin();
         let dir = from.try_normalize().unwrap_or(Vec3::Z);
         Camera::look_at(centre + dir * distance, centre, up, fov_y_deg)
     }
@@ -81,11 +82,10 @@ mod tests {
 
     #[test]
     fn framing_keeps_the_bounds_in_view() {
-        let b = Aabb { min: Vec3::splat(-1.0), max: Vec3::splat(1.0) };
-        let cam = Camera::frame(&b, Vec3::new(1.0, 0.5, 2.0), Vec3::Y, 40.0, 16.0 / 9.0);
+        let cam = Camera::frame(Vec3::ZERO, 1.0, Vec3::new(1.0, 0.5, 2.0), Vec3::Y, 40.0, 16.0 / 9.0);
         let to_centre = -cam.position;
         let half = 20f32.to_radians();
-        let sphere_half_angle = (3f32.sqrt() / to_centre.length()).asin();
+        let sphere_half_angle = (1.0 / to_centre.length()).asin();
         assert!(sphere_half_angle < half && sphere_half_angle > 0.8 * half);
     }
 }
