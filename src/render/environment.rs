@@ -100,27 +100,35 @@ pub struct Studio {
 impl Default for Studio {
     fn default() -> Self {
         let boxes = vec![
-            // Key: large, upper left, in front of the subject (toward +z, where the default
-            // camera stands).
+            // Light tent: a very large, soft, dim panel behind and above the default camera
+            // (which looks from +z). A film reflects it over most of its face, so the
+            // interference colours show everywhere, as in bubble photographs.
             SoftBox {
-                dir: Vec3::new(-0.55, 0.45, 0.70).normalize(),
-                half_size: (0.45, 0.60),
-                softness: 0.12,
-                radiance: Vec3::splat(5.0),
+                dir: Vec3::new(0.25, 0.35, 1.0).normalize(),
+                half_size: (1.4, 1.0),
+                softness: 0.35,
+                radiance: Vec3::splat(1.6),
             },
-            // Fill: right, a little lower and dimmer, slightly warm.
+            // Key: bright, upper left: a crisp highlight.
             SoftBox {
-                dir: Vec3::new(0.80, 0.10, 0.55).normalize(),
-                half_size: (0.30, 0.50),
-                softness: 0.10,
-                radiance: Vec3::new(2.6, 2.4, 2.2),
+                dir: Vec3::new(-0.55, 0.55, 0.62).normalize(),
+                half_size: (0.30, 0.40),
+                softness: 0.06,
+                radiance: Vec3::splat(6.0),
             },
-            // Top strip.
+            // Fill: right, lower and warmer.
+            SoftBox {
+                dir: Vec3::new(0.85, 0.05, 0.50).normalize(),
+                half_size: (0.22, 0.45),
+                softness: 0.06,
+                radiance: Vec3::new(3.2, 3.0, 2.7),
+            },
+            // Top strip: a line of light along the bubble's crown.
             SoftBox {
                 dir: Vec3::new(0.0, 1.0, 0.15).normalize(),
-                half_size: (0.70, 0.25),
-                softness: 0.10,
-                radiance: Vec3::splat(3.0),
+                half_size: (0.70, 0.18),
+                softness: 0.05,
+                radiance: Vec3::splat(4.0),
             },
         ];
         Studio {
@@ -191,7 +199,7 @@ mod tests {
     #[test]
     fn studio_has_bright_boxes_on_a_dark_backdrop() {
         let s = Environment::Studio(Studio::default());
-        let key = Vec3::new(-0.55, 0.45, 0.70).normalize();
+        let key = Vec3::new(-0.55, 0.55, 0.62).normalize();
         assert!(s.radiance(key).min_element() > 4.0);
         assert!(s.radiance(Vec3::new(0.0, -0.2, -1.0).normalize()).max_element() < 0.1);
         for i in 0..1000 {
