@@ -181,7 +181,7 @@ fn jittered_wavelengths_converge_to_the_reference_colour_on_thick_films() {
     for _ in 0..samples {
         let u: Vec<f32> = (0..8).map(|_| lcg(&mut s) as f32).collect();
         let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, 8, WavelengthStrategy::Jittered, &u);
-        w.set(wl.as_slice());
+        w.set_unbiased(wl.as_slice());
         let rgb = w.film_reflectance_rgb(&f, 5000.0);
         for c in 0..3 {
             acc[c] += rgb[c] / samples as f32;

@@ -11,7 +11,7 @@ use super::camera::Camera;
 use super::environment::Environment;
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading};
-use crate::geometry::{Ray, SplatGeometry};
+use crate::geometry::{Ray, SplatGeometry, SurfaceHit};
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -95,15 +95,21 @@ struct PathState {
 }
 
 impl Tracer<'_> {
+    /// Radiance arriving along `ray` from beyond `t_min`.
     fn trace(&self, ray: &Ray, t_min: f32, depth: u32, weight: Vec3, st: &mut PathState) -> Vec3 {
-        let env = &self.scene.environment;
         if depth >= self.settings.max_depth || weight.max_element() < self.settings.min_weight {
-            return env.radiance(ray.dir);
+            return self.scene.environment.radiance(ray.dir);
         }
         st.rays += 1;
-        let Some(hit) = self.scene.geometry.intersect(ray, t_min, f32::INFINITY) else {
-            return env.radiance(ray.dir);
-        };
+        match self.scene.geometry.intersect(ray, t_min, f32::INFINITY) {
+            None => self.scene.environment.radiance(ray.dir),
+            Some(hit) => self.shade(ray, &hit, depth, weight, st),
+        }
+    }
+
+    /// Radiance leaving a film crossing `hit` back along `ray`: the reflected and the
+    /// transmitted branch, weighted by R and T = 1 − R.
+    fn shade(&self, ray: &Ray, hit: &SurfaceHit, depth: u32, weight: Vec3, st: &mut PathState) -> Vec3 {
         let cos_signed = ray.dir.dot(hit.normal);
         let cos_i = cos_signed.abs().min(1.0);
         let r = self.shader.reflectance(&st.shading, cos_i, hit.thickness_nm);
@@ -213,16 +219,19 @@ fn render_pixel(tr: &Tracer, x: usize, y: usize, aspect: f32, st: &mut PathState
         u.extend((0..tr.shader.randoms_per_sample()).map(|_| rng.next_f32()));
         tr.shader.begin_sample(&mut st.shading, u);
         let ray = tr.scene.camera.ray((x as f32 + jx) / w as f32, (y as f32 + jy) / h as f32, aspect);
-        // First crossing for the auxiliary buffers (the tracer finds it again: the cost is one
-        // extra intersection per sample, which keeps the tree code free of bookkeeping).
-        if let Some(hit) = tr.scene.geometry.intersect(&ray, 0.0, f32::INFINITY) {
-            hit_samples += 1;
-            p.depth += hit.t;
-            p.normal += hit.normal;
-            p.thickness += hit.thickness_nm;
-            p.hits += hit.coverage as f32;
-        }
-        let c = tr.trace(&ray, 0.0, 0, Vec3::ONE, st);
+        // The first crossing feeds the auxiliary buffers, then the ray tree.
+        st.rays += 1;
+        let c = match tr.scene.geometry.intersect(&ray, 0.0, f32::INFINITY) {
+            Some(hit) => {
+                hit_samples += 1;
+                p.depth += hit.t;
+                p.normal += hit.normal;
+                p.thickness += hit.thickness_nm;
+                p.hits += hit.coverage as f32;
+                tr.shade(&ray, &hit, 0, Vec3::ONE, st)
+            }
+            None => tr.scene.environment.radiance(ray.dir),
+        };
         // Drop non-finite samples rather than poison the pixel (pbrt does the same).
         if c.is_finite() {
             p.rgb += c;

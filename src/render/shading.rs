@@ -72,7 +72,10 @@ impl FilmShader {
     pub fn begin_sample(&self, state: &mut SampleShading, u: &[f32]) {
         if self.lut.is_none() {
             let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, self.wavelengths, self.strategy, u);
-            state.weights.set(wl.as_slice());
+            match self.strategy {
+                WavelengthStrategy::Stratified => state.weights.set(wl.as_slice()),
+                _ => state.weights.set_unbiased(wl.as_slice()),
+            }
         }
     }
 

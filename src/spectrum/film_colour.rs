@@ -60,8 +60,23 @@ impl SpectralWeights {
         w
     }
 
-    /// Recomputes the weights for new wavelengths, reusing the allocation.
+    /// Recomputes the weights for new wavelengths, reusing the allocation, white-balanced:
+    /// normalised per channel so that a perfect reflector is exactly 1 with these very
+    /// wavelengths. Right for fixed grids (no colour cast on neutral films); for random
+    /// wavelengths use [`set_unbiased`](Self::set_unbiased).
     pub fn set(&mut self, lambda_nm: &[f32]) {
+        self.set_normalised(lambda_nm, true)
+    }
+
+    /// Recomputes the weights for wavelengths drawn uniformly at random over 360–830 nm: the
+    /// plain Monte Carlo estimator, normalised by the exact white integral, so its mean over
+    /// samples is the true colour. (A per-sample white balance would be a ratio estimator:
+    /// biased, and unstable for few wavelengths when a channel's weights nearly cancel.)
+    pub fn set_unbiased(&mut self, lambda_nm: &[f32]) {
+        self.set_normalised(lambda_nm, false)
+    }
+
+    fn set_normalised(&mut self, lambda_nm: &[f32], white_balance: bool) {
         self.inv_lambda.clear();
         self.weight.clear();
         let mut white = [0.0f64; 3];
@@ -73,12 +88,13 @@ impl SpectralWeights {
             self.inv_lambda.push(1.0 / l);
             self.weight.push([w[0] as f32, w[1] as f32, w[2] as f32]);
         }
-        // Normalise per channel so a white reflector is exactly 1. If a channel's weights cancel
-        // (possible for one or two wavelengths) fall back to the full-range integral.
+        // If a channel's weights cancel (possible for one or two wavelengths), white balance
+        // falls back to the full-range integral.
         let full = white_integral_per_nm();
-        let width = lambda_nm.len() as f64;
+        let count = lambda_nm.len() as f64;
         for c in 0..3 {
-            let norm = if white[c] > 1e-6 * full[c] * width { white[c] } else { full[c] * width };
+            let exact = full[c] * count;
+            let norm = if white_balance && white[c] > 1e-6 * exact { white[c] } else { exact };
             for w in &mut self.weight {
                 w[c] = (w[c] as f64 / norm) as f32;
             }
