@@ -1,4 +1,4 @@
-//! Estimation costs on 1M particles: kNN normals, radii, spacing.
+//! Estimation costs on 1M particles (kNN normals, radii, spacing) and the bubble sample.
 //! Run: cargo bench --bench cloud_estimate -- --warm-up-time 1 --measurement-time 3
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -7,7 +7,7 @@ use filmsplat::pointcloud::estimate::{
     EstimateOptions, estimate_normals, estimate_radii, fill_missing, median_spacing,
 };
 use filmsplat::pointcloud::knn::{KnnTable, PointIndex};
-use filmsplat::samples::fibonacci_sphere;
+use filmsplat::samples::{BubbleParams, bubble, fibonacci_sphere};
 use glam::Vec3;
 use std::hint::black_box;
 
@@ -58,6 +58,12 @@ fn benches(c: &mut Criterion) {
             };
             fill_missing(&mut cloud, &EstimateOptions::default())
         })
+    });
+    g.finish();
+    let mut g = c.benchmark_group("samples");
+    g.sample_size(10);
+    g.bench_function("bubble_200k", |b| {
+        b.iter(|| bubble(&BubbleParams::default()))
     });
     g.finish();
 }

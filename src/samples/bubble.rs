@@ -201,7 +201,7 @@ impl Field {
 /// particle (d = [`fibonacci_spacing`]), so disks overlap and the film has no holes. Thickness:
 /// see the module docs; within [[`H_BLACK_NM`], 1.16·[`H_BOTTOM_NM`]] at time 0. Deterministic for a
 /// seed (independent of the thread count). Cost: O(n·V·(memory/dt)) ≈ 50 RK2 steps × 6
-/// vortices a particle, parallel: about a second for the default 200 000 particles on 2 cores.
+/// vortices a particle, parallel: ≈ 2 s for the default 200 000 particles (loaded 2-core machine).
 pub fn bubble(p: &BubbleParams) -> PointCloud {
     let n = p.particles;
     let field = Field::new(p.seed);
