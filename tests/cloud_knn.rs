@@ -9,7 +9,13 @@ use glam::Vec3;
 fn random_cloud(n: usize, seed: u64) -> Vec<Vec3> {
     let mut g = SplitMix64::new(seed);
     let mut v: Vec<Vec3> = (0..n)
-        .map(|_| Vec3::new(g.next_f64() as f32, g.next_f64() as f32, g.next_f64() as f32 * 0.2))
+        .map(|_| {
+            Vec3::new(
+                g.next_f64() as f32,
+                g.next_f64() as f32,
+                g.next_f64() as f32 * 0.2,
+            )
+        })
         .collect();
     // A few exact duplicates.
     for i in 0..20 {
@@ -19,7 +25,10 @@ fn random_cloud(n: usize, seed: u64) -> Vec<Vec3> {
 }
 
 fn brute_sorted_dists(p: &[Vec3], i: usize) -> Vec<f32> {
-    let mut d: Vec<f32> = (0..p.len()).filter(|&j| j != i).map(|j| p[i].distance(p[j])).collect();
+    let mut d: Vec<f32> = (0..p.len())
+        .filter(|&j| j != i)
+        .map(|j| p[i].distance(p[j]))
+        .collect();
     d.sort_by(f32::total_cmp);
     d
 }
@@ -37,7 +46,10 @@ fn knn_table_matches_brute_force() {
         for (m, (j, d)) in got.iter().enumerate() {
             assert_ne!(*j as usize, i, "a particle is not its own neighbour");
             assert!((d - p[i].distance(p[*j as usize])).abs() < 1e-6);
-            assert!((d - want[m]).abs() <= 1e-6 * want[m].max(1e-3), "row {i} slot {m}");
+            assert!(
+                (d - want[m]).abs() <= 1e-6 * want[m].max(1e-3),
+                "row {i} slot {m}"
+            );
         }
     }
 }
@@ -50,7 +62,10 @@ fn knn_table_short_rows_and_non_finite() {
     assert_eq!(t.row(0).count(), 2, "only two other finite particles exist");
     assert_eq!(t.row(3).count(), 0);
     assert_eq!(t.idx[3 * 8], NO_NEIGHBOUR);
-    assert!(t.row(1).all(|(j, _)| j < 3), "non-finite particles are nobody's neighbour");
+    assert!(
+        t.row(1).all(|(j, _)| j < 3),
+        "non-finite particles are nobody's neighbour"
+    );
     assert_eq!(t.kth_distance(0, 8), Some(1.0));
 }
 
@@ -59,9 +74,9 @@ fn nn_distances_and_median_match_brute_force() {
     let p = random_cloud(2000, 9);
     let nn = nn_distances(&p);
     let mut positive = Vec::new();
-    for i in 0..p.len() {
+    for (i, got) in nn.iter().enumerate() {
         let want = brute_sorted_dists(&p, i)[0];
-        assert!((nn[i] - want).abs() <= 1e-6, "{i}: {} vs {want}", nn[i]);
+        assert!((got - want).abs() <= 1e-6, "{i}: {got} vs {want}");
         if want > 0.0 {
             positive.push(want);
         }

@@ -6,7 +6,7 @@
 
 use super::PointCloud;
 use super::eigen::sym_eigen3;
-use super::knn::{KnnTable, PointIndex};
+use super::knn::{KnnTable, NO_NEIGHBOUR, PointIndex};
 use super::orient::{Orientation, centroid, orient_normals, propagate_signs};
 use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
@@ -66,12 +66,14 @@ pub fn median_spacing(positions: &[Vec3]) -> f32 {
 ///
 /// Why the k-th neighbour (k ≈ 6–8) rather than the nearest: d₁ measures the accidental closest
 /// pair and underestimates spacing in clumpy SPH data, leaving holes; dₖ tracks the local
-/// *density* (on a surface ρ ≈ k / (π dₖ²)). On a hexagon-like sampling of spacing d the
-/// 7th–12th neighbours lie at √3·d, so k = 8 with `scale` = 0.5 gives r ≈ 0.87·d, 1.5× the
-/// lattice covering radius d/√3: disks overlap (≈ 2.7 disks over each surface point) and the
-/// film has no holes even with sizeable local irregularity, while staying small enough not to
-/// smear curvature. Particles with no neighbour get `scale ×` the median dₖ (or `scale` for a
-/// lone particle). Cost: O(n·k·log n), parallel.
+/// *density* (on a surface ρ ≈ k / (π dₖ²)). Why k = 8, `scale` = 0.6 (the
+/// [`EstimateOptions`] defaults): on a Fibonacci (near-hexagonal) lattice of spacing d,
+/// d₈ ≈ 1.54·d, so r ≈ 0.92·d against a hexagonal covering radius of d/√3 ≈ 0.58·d — disks
+/// overlap and the film has no holes. Measured by ray casting on a 20 000-point sphere: no hole
+/// with tangential jitter up to ±0.3·d per axis (scale 0.5 already leaves holes at ±0.2·d).
+/// Larger radii would blur curvature and thickness detail. Uniformly random (Poisson-like)
+/// samplings have larger gaps and need `scale` ≈ 1.0. Particles with no neighbour get
+/// `scale ×` the median dₖ (or `scale` for a lone particle). Cost: O(n·k·log n), parallel.
 pub fn estimate_radii(positions: &[Vec3], k: usize, scale: f32) -> Vec<f32> {
     let table = KnnTable::build(positions, k.max(1));
     radii_from_table(&table, k.max(1), scale)
@@ -95,7 +97,8 @@ pub struct NormalEstimate {
     /// One unit normal a particle.
     pub normals: Vec<Vec3>,
     /// Particles whose neighbourhood had no defined plane (fewer than 3 points, coincident or
-    /// collinear); their normal is the mean of their neighbours' normals, else radial, else +Z.
+    /// collinear); their normal is the mean of their neighbours' normals, else the nearest
+    /// valid particle's, else radial from the centroid, else +Z.
     pub degenerate: usize,
     /// How the signs were chosen.
     pub orientation: Orientation,
@@ -115,7 +118,8 @@ pub fn estimate_normals(positions: &[Vec3], k: usize) -> Vec<Vec3> {
 /// below 10⁻⁴ × the largest (collinear or coincident points). Orientation is outward for
 /// star-shaped clouds and MST-propagated otherwise, see [`super::orient`].
 /// Cost: O(n·k·log n) parallel for kNN + PCA; the propagated case adds a single-threaded
-/// O(n·k·log n) spanning tree (≈ 1 s for 1M particles).
+/// O(n·k·log n) spanning tree. Measured for 1M particles, k = 12, on a loaded 2-core machine:
+/// ≈ 2.4 s in all (radial), ≈ 5 s (propagated).
 pub fn estimate_normals_detailed(positions: &[Vec3], k: usize) -> NormalEstimate {
     let table = KnnTable::build(positions, k.max(2));
     normals_from_table(positions, &table, k.max(2))
@@ -143,7 +147,9 @@ fn pca_normal(positions: &[Vec3], table: &KnnTable, i: usize, k: usize) -> Optio
         cov += DMat3::from_cols(d * d.x, d * d.y, d * d.z);
     }
     let e = sym_eigen3(&cov);
-    if !(e.values[2] > 0.0) || e.values[1] <= 1e-4 * e.values[2] {
+    // NaN-safe: a non-finite spectrum fails the first test.
+    let planar = e.values[2] > 0.0 && e.values[1] > 1e-4 * e.values[2];
+    if !planar {
         return None;
     }
     e.vectors[0].as_vec3().try_normalize()
@@ -167,8 +173,14 @@ pub(crate) fn normals_from_table(positions: &[Vec3], table: &KnnTable, k: usize)
 }
 
 /// Replaces every `!valid` normal by the normalised sum of its (valid, oriented) neighbours'
-/// normals, spreading along chains; else radial from the centroid; else +Z. Returns the count.
-fn fill_degenerate(positions: &[Vec3], table: &KnnTable, normals: &mut [Vec3], valid: &[bool]) -> usize {
+/// normals, spreading along chains; else the nearest valid particle's normal; else radial
+/// from the centroid; else +Z. Returns the count.
+fn fill_degenerate(
+    positions: &[Vec3],
+    table: &KnnTable,
+    normals: &mut [Vec3],
+    valid: &[bool],
+) -> usize {
     let mut ok = valid.to_vec();
     let mut pending: Vec<usize> = (0..normals.len()).filter(|&i| !valid[i]).collect();
     let count = pending.len();
@@ -193,9 +205,24 @@ fn fill_degenerate(positions: &[Vec3], table: &KnnTable, normals: &mut [Vec3], v
             break;
         }
     }
-    let c = centroid(positions).unwrap_or(Vec3::ZERO);
-    for i in pending {
-        normals[i] = (positions[i] - c).try_normalize().unwrap_or(Vec3::Z);
+    if !pending.is_empty() {
+        // Cut off from every valid normal in the kNN graph (e.g. a stack of > k duplicates):
+        // copy the nearest valid particle's normal.
+        let masked: Vec<Vec3> = (0..positions.len())
+            .map(|i| if ok[i] { positions[i] } else { Vec3::NAN })
+            .collect();
+        let index = PointIndex::build(&masked);
+        let c = centroid(positions).unwrap_or(Vec3::ZERO);
+        for i in pending {
+            let p = positions[i];
+            let near = p
+                .is_finite()
+                .then(|| index.nearest_excluding(p, 1, NO_NEIGHBOUR));
+            normals[i] = match near.as_deref() {
+                Some([(j, _), ..]) => normals[*j as usize],
+                _ => (p - c).try_normalize().unwrap_or(Vec3::Z),
+            };
+        }
     }
     count
 }
@@ -207,7 +234,7 @@ pub struct EstimateOptions {
     pub k_normals: usize,
     /// The k of the k-th-neighbour distance used for radii (default 8).
     pub k_radius: usize,
-    /// Radius = `radius_scale` × k-th-neighbour distance (default 0.5; see [`estimate_radii`]).
+    /// Radius = `radius_scale` × k-th-neighbour distance (default 0.6; see [`estimate_radii`]).
     pub radius_scale: f32,
     /// Thickness given to every particle when the cloud has none, in nm (default 500).
     pub default_thickness_nm: f32,
@@ -218,7 +245,7 @@ impl Default for EstimateOptions {
         EstimateOptions {
             k_normals: 12,
             k_radius: 8,
-            radius_scale: 0.5,
+            radius_scale: 0.6,
             default_thickness_nm: 500.0,
         }
     }
@@ -253,7 +280,11 @@ impl std::fmt::Display for EstimateReport {
         if self.normals_estimated > 0 {
             write!(f, "  normals: {} estimated by PCA", self.normals_estimated)?;
             if self.normals_degenerate > 0 {
-                write!(f, " ({} degenerate, filled from neighbours)", self.normals_degenerate)?;
+                write!(
+                    f,
+                    " ({} degenerate, filled from neighbours)",
+                    self.normals_degenerate
+                )?;
             }
             if let Some(o) = self.orientation {
                 write!(f, ", oriented {o}")?;
@@ -261,13 +292,25 @@ impl std::fmt::Display for EstimateReport {
             writeln!(f)?;
         }
         if self.normals_normalised > 0 {
-            writeln!(f, "  normals: {} rescaled to unit length", self.normals_normalised)?;
+            writeln!(
+                f,
+                "  normals: {} rescaled to unit length",
+                self.normals_normalised
+            )?;
         }
         if self.radii_estimated > 0 {
-            writeln!(f, "  radii: {} estimated from spacing", self.radii_estimated)?;
+            writeln!(
+                f,
+                "  radii: {} estimated from spacing",
+                self.radii_estimated
+            )?;
         }
         if self.thickness_filled > 0 {
-            writeln!(f, "  thickness: {} set to the default", self.thickness_filled)?;
+            writeln!(
+                f,
+                "  thickness: {} set to the default",
+                self.thickness_filled
+            )?;
         }
         if let Some(s) = self.median_spacing {
             writeln!(f, "  median spacing: {s:.6}")?;
@@ -275,7 +318,11 @@ impl std::fmt::Display for EstimateReport {
         for n in &self.notes {
             writeln!(f, "  note: {n}")?;
         }
-        if self.normals_estimated + self.normals_normalised + self.radii_estimated + self.thickness_filled == 0
+        if self.normals_estimated
+            + self.normals_normalised
+            + self.radii_estimated
+            + self.thickness_filled
+            == 0
         {
             writeln!(f, "  nothing to fill")?;
         }
@@ -298,13 +345,19 @@ pub fn fill_missing(cloud: &mut PointCloud, opts: &EstimateOptions) -> EstimateR
     if let Some(v) = &cloud.normals
         && v.len() != n
     {
-        report.notes.push(format!("normals had {} entries for {n} particles; replaced", v.len()));
+        report.notes.push(format!(
+            "normals had {} entries for {n} particles; replaced",
+            v.len()
+        ));
         cloud.normals = None;
     }
     if let Some(v) = &cloud.radius
         && v.len() != n
     {
-        report.notes.push(format!("radii had {} entries for {n} particles; replaced", v.len()));
+        report.notes.push(format!(
+            "radii had {} entries for {n} particles; replaced",
+            v.len()
+        ));
         cloud.radius = None;
     }
     let need_normal: Vec<bool> = match &cloud.normals {
@@ -384,7 +437,13 @@ fn reestimate(
 ) -> (usize, usize) {
     let raw: Vec<Option<Vec3>> = (0..positions.len())
         .into_par_iter()
-        .map(|i| if need[i] { pca_normal(positions, table, i, k) } else { None })
+        .map(|i| {
+            if need[i] {
+                pca_normal(positions, table, i, k)
+            } else {
+                None
+            }
+        })
         .collect();
     let mut valid: Vec<bool> = need.iter().map(|b| !b).collect();
     let mut resolved = valid.clone();

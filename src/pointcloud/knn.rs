@@ -4,22 +4,30 @@
 //! neighbour, so estimation on an unvalidated cloud degrades instead of panicking.
 
 use glam::Vec3;
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::SquaredEuclidean;
+use kiddo::kd_tree::KdTree;
+use kiddo::leaf_strategies::FlatVec;
+use kiddo::stem_strategies::Eytzinger;
 use rayon::prelude::*;
 use std::num::NonZeroUsize;
 
 /// Marks an empty slot in a [`KnnTable`] row (fewer than `k` other finite particles exist).
 pub const NO_NEIGHBOUR: u32 = u32::MAX;
 
+/// The tree layout: immutable, Eytzinger stems, flat leaves of 32 points. Measured on 1M
+/// Fibonacci-sphere points (13-NN, one thread): ≈ 1.45 µs a query against ≈ 1.6 µs for
+/// kiddo's `ImmutableKdTree` default (arena leaves); build ≈ 0.2 s either way.
+type Tree = KdTree<f32, u32, Eytzinger, FlatVec<f32, u32, 3, 32>, 3, 32>;
+
 /// A k-d tree over the finite positions of a cloud, indexed by particle index.
 pub struct PointIndex {
-    tree: ImmutableKdTree<f32, 3>,
+    tree: Tree,
     finite: usize,
 }
 
 impl PointIndex {
-    /// Builds the tree over all finite positions. Cost: O(n log n), single-threaded
-    /// (about 0.2 s for 1M points on this machine's class of CPU).
+    /// Builds the tree over all finite positions. Cost: O(n log n), single-threaded (kiddo's
+    /// `multi-threaded` feature is off): ≈ 0.2 s for 1M points.
     pub fn build(positions: &[Vec3]) -> Self {
         let entries: Vec<(u32, [f32; 3])> = positions
             .iter()
@@ -30,7 +38,7 @@ impl PointIndex {
         let finite = entries.len();
         // Construction only fails on index overflow (u32) for mutable-bucket splits; neither
         // applies to an immutable tree built from explicit u32 entries.
-        let tree = ImmutableKdTree::new_from_entries(&entries).unwrap_or_default();
+        let tree = Tree::new_from_entries(&entries).unwrap_or_default();
         PointIndex { tree, finite }
     }
 
@@ -105,7 +113,11 @@ impl KnnTable {
                     if !p.is_finite() {
                         return;
                     }
-                    for (slot, (j, d)) in index.nearest_excluding(p, k, i as u32).into_iter().enumerate() {
+                    for (slot, (j, d)) in index
+                        .nearest_excluding(p, k, i as u32)
+                        .into_iter()
+                        .enumerate()
+                    {
                         ri[slot] = j;
                         rd[slot] = d;
                     }
@@ -116,7 +128,7 @@ impl KnnTable {
 
     /// Number of particles (rows).
     pub fn len(&self) -> usize {
-        if self.k == 0 { 0 } else { self.idx.len() / self.k }
+        self.idx.len().checked_div(self.k).unwrap_or(0)
     }
 
     /// True if the table has no rows.

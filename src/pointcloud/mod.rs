@@ -1,5 +1,5 @@
 //! The particle cloud: what every reader produces and every geometry consumes, plus its
-//! validation ([`validate`]), estimation of missing attributes ([`estimate`]) and summary
+//! validation ([`mod@validate`]), estimation of missing attributes ([`estimate`]) and summary
 //! statistics ([`stats`]).
 
 use glam::Vec3;
@@ -43,6 +43,9 @@ impl PointCloud {
 
     /// The extra attribute called `name`, if present.
     pub fn extra(&self, name: &str) -> Option<&[f32]> {
-        self.extra.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_slice())
+        self.extra
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.as_slice())
     }
 }

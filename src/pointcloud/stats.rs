@@ -25,15 +25,25 @@ impl Histogram {
         let (lo, hi) = values
             .iter()
             .filter(|v| v.is_finite())
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
         let mut counts = vec![0usize; bins.max(1)];
         if lo > hi {
-            return Histogram { lo: 0.0, hi: 0.0, counts };
+            return Histogram {
+                lo: 0.0,
+                hi: 0.0,
+                counts,
+            };
         }
         let last = counts.len() - 1;
         let width = (hi as f64 - lo as f64) / counts.len() as f64;
         for &v in values.iter().filter(|v| v.is_finite()) {
-            let b = if width > 0.0 { ((v as f64 - lo as f64) / width) as usize } else { 0 };
+            let b = if width > 0.0 {
+                ((v as f64 - lo as f64) / width) as usize
+            } else {
+                0
+            };
             counts[b.min(last)] += 1;
         }
         Histogram { lo, hi, counts }
@@ -108,9 +118,11 @@ pub struct CloudStats {
 pub fn compute_stats(cloud: &PointCloud) -> CloudStats {
     let finite: Vec<&Vec3> = cloud.positions.iter().filter(|p| p.is_finite()).collect();
     let bounds = (!finite.is_empty()).then(|| {
-        finite.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(**p), hi.max(**p))
-        })
+        finite
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(**p), hi.max(**p))
+            })
     });
     let (mut degenerate, mut not_unit) = (0, 0);
     if let Some(normals) = &cloud.normals {
@@ -132,14 +144,25 @@ pub fn compute_stats(cloud: &PointCloud) -> CloudStats {
         normals_missing: cloud.normals.is_none(),
         normals_degenerate: degenerate,
         normals_not_unit: not_unit,
-        extra: cloud.extra.iter().map(|(k, v)| (k.clone(), Summary::of(v))).collect(),
+        extra: cloud
+            .extra
+            .iter()
+            .map(|(k, v)| (k.clone(), Summary::of(v)))
+            .collect(),
     }
 }
 
-fn write_summary(f: &mut fmt::Formatter<'_>, name: &str, unit: &str, s: &Summary, hist: bool) -> fmt::Result {
+fn write_summary(
+    f: &mut fmt::Formatter<'_>,
+    name: &str,
+    unit: &str,
+    s: &Summary,
+    hist: bool,
+) -> fmt::Result {
+    let prec = if unit == " nm" { 1 } else { 4 };
     write!(
         f,
-        "{name:<12} min {:.4} max {:.4} mean {:.4}{unit}",
+        "{name:<12} min {:.prec$} max {:.prec$} mean {:.prec$}{unit}",
         s.min, s.max, s.mean
     )?;
     if s.non_finite > 0 {
@@ -163,7 +186,11 @@ impl fmt::Display for CloudStats {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "particles    {}", self.count)?;
         if self.non_finite_positions > 0 {
-            write!(f, " ({} with non-finite positions)", self.non_finite_positions)?;
+            write!(
+                f,
+                " ({} with non-finite positions)",
+                self.non_finite_positions
+            )?;
         }
         writeln!(f)?;
         match self.bounds {
@@ -177,7 +204,11 @@ impl fmt::Display for CloudStats {
             }
             None => writeln!(f, "bounds       none (no finite position)")?,
         }
-        writeln!(f, "spacing      median nearest-neighbour distance {:.6}", self.median_spacing)?;
+        writeln!(
+            f,
+            "spacing      median nearest-neighbour distance {:.6}",
+            self.median_spacing
+        )?;
         if self.normals_missing {
             writeln!(f, "normals      missing (will be estimated)")?;
         } else {

@@ -25,7 +25,11 @@ impl std::fmt::Display for Problem {
                 } else {
                     ("particles", "have")
                 };
-                write!(f, "{} {noun} {verb} {} (first: index {first})", self.count, self.what)
+                write!(
+                    f,
+                    "{} {noun} {verb} {} (first: index {first})",
+                    self.count, self.what
+                )
             }
             None => write!(f, "{}", self.what),
         }
@@ -81,7 +85,12 @@ pub fn problems(cloud: &PointCloud) -> Vec<Problem> {
         });
         return out;
     }
-    scan(&cloud.positions, "non-finite positions", |p| !p.is_finite(), &mut out);
+    scan(
+        &cloud.positions,
+        "non-finite positions",
+        |p| !p.is_finite(),
+        &mut out,
+    );
     if let Some(normals) = &cloud.normals
         && length_problem("normals", normals.len(), n, &mut out)
     {
@@ -160,16 +169,28 @@ impl std::fmt::Display for RepairReport {
         }
         let mut parts = Vec::new();
         if self.dropped_position > 0 {
-            parts.push(format!("dropped {} with non-finite positions", self.dropped_position));
+            parts.push(format!(
+                "dropped {} with non-finite positions",
+                self.dropped_position
+            ));
         }
         if self.dropped_thickness > 0 {
-            parts.push(format!("dropped {} with bad thickness", self.dropped_thickness));
+            parts.push(format!(
+                "dropped {} with bad thickness",
+                self.dropped_thickness
+            ));
         }
         if self.normals_reset > 0 {
-            parts.push(format!("{} unusable normals marked for re-estimation", self.normals_reset));
+            parts.push(format!(
+                "{} unusable normals marked for re-estimation",
+                self.normals_reset
+            ));
         }
         if self.radii_reset > 0 {
-            parts.push(format!("{} bad radii marked for re-estimation", self.radii_reset));
+            parts.push(format!(
+                "{} bad radii marked for re-estimation",
+                self.radii_reset
+            ));
         }
         for d in &self.discarded {
             parts.push(format!("discarded attribute '{d}' (wrong length)"));

@@ -6,7 +6,9 @@ use glam::{DVec3, Vec3};
 /// z = 1 − (2i + 1)/n (equal-area bands) and longitude i·π(3 − √5). Each point covers an area
 /// 4πR²/n; neighbours are ≈ [`fibonacci_spacing`] apart. Computed in f64. Cost: O(n).
 pub fn fibonacci_sphere(n: usize, radius: f32) -> Vec<Vec3> {
-    (0..n).map(|i| fibonacci_point(i, n).as_vec3() * radius).collect()
+    (0..n)
+        .map(|i| fibonacci_point(i, n).as_vec3() * radius)
+        .collect()
 }
 
 /// Unit-sphere point `i` of an `n`-point Fibonacci lattice, see [`fibonacci_sphere`].

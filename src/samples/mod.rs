@@ -5,4 +5,4 @@ pub mod fibonacci;
 pub mod rng;
 
 pub use bubble::{BubbleParams, bubble};
-pub use fibonacci::{fibonacci_sphere, fibonacci_spacing};
+pub use fibonacci::{fibonacci_spacing, fibonacci_sphere};
