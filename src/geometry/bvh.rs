@@ -88,8 +88,9 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Builds a BVH over `bounds` (one box per primitive; boxes must be finite and non-empty)
-    /// with default parameters. Cost: O(n log n), parallel over the rayon pool.
+    /// Builds a BVH over `bounds` (one box per primitive, fewer than `u32::MAX`; boxes should be
+    /// finite and non-empty — others do not panic but may make queries miss them) with default
+    /// parameters. Cost: O(n log n), parallel over the rayon pool.
     pub fn build(bounds: &[Aabb]) -> Bvh {
         Self::build_with(bounds, BvhParams::default())
     }

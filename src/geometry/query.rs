@@ -29,19 +29,15 @@ impl SplatGeometry {
     /// Closest disk; ties in `t` go to the lowest particle index.
     #[inline]
     pub(super) fn closest_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<DiskHit> {
-        let order = &self.bvh.order;
         let mut best: Option<DiskHit> = None;
-        let mut best_particle = u32::MAX;
         self.bvh.closest(ray, t_min, t_max, |s, lim| {
             let d = &self.disks[s as usize];
             let hi = if best.is_some() { lim.next_up() } else { t_max };
-            if let Some((t, d2)) = intersect_disk(ray, d.center, d.normal, d.radius, t_min, hi) {
-                let p = order[s as usize];
-                if t < *lim || p < best_particle {
-                    best = Some((s, t, d2));
-                    best_particle = p;
-                    *lim = t;
-                }
+            if let Some((t, d2)) = intersect_disk(ray, d.center, d.normal, d.radius, t_min, hi)
+                && best.is_none_or(|(bs, bt, _)| t < bt || self.lower_particle(s, bs))
+            {
+                best = Some((s, t, d2));
+                *lim = t;
             }
         });
         best
@@ -52,7 +48,6 @@ impl SplatGeometry {
         let order = &self.bvh.order;
         let mut min_lim = f32::INFINITY;
         let mut best: Option<DiskHit> = None;
-        let mut best_particle = u32::MAX;
         let mut cands = [(0u32, 0f32, 0f32); MAX_CANDIDATES];
         let mut nc = 0usize;
         let mut overflow = false;
@@ -63,10 +58,9 @@ impl SplatGeometry {
             let Some((t, d2)) = intersect_disk(ray, d.center, d.normal, d.radius, t_min, hi) else {
                 return;
             };
-            let p = order[s as usize];
-            let closer = best.is_none_or(|(_, bt, _)| t < bt || (t == bt && p < best_particle));
+            let closer =
+                best.is_none_or(|(bs, bt, _)| t < bt || (t == bt && self.lower_particle(s, bs)));
             let candidate = if closer {
-                best_particle = p;
                 *lim = (t + LIMIT_SLACK * self.blend.band(d.radius, d.normal.dot(ray.dir).abs()))
                     .min(t_max);
                 min_lim = min_lim.min(*lim);
@@ -153,19 +147,15 @@ impl SplatGeometry {
 
     /// Closest sphere crossing; ties in `t` go to the lowest particle index.
     pub(super) fn sphere_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let order = &self.bvh.order;
         let mut best: Option<(u32, f32)> = None;
-        let mut best_particle = u32::MAX;
         self.bvh.closest(ray, t_min, t_max, |s, lim| {
             let p = &self.spheres[s as usize];
             let hi = if best.is_some() { lim.next_up() } else { t_max };
-            if let Some(t) = intersect_sphere(ray, p.center, p.radius, t_min, hi) {
-                let part = order[s as usize];
-                if t < *lim || part < best_particle {
-                    best = Some((s, t));
-                    best_particle = part;
-                    *lim = t;
-                }
+            if let Some(t) = intersect_sphere(ray, p.center, p.radius, t_min, hi)
+                && best.is_none_or(|(bs, bt)| t < bt || self.lower_particle(s, bs))
+            {
+                best = Some((s, t));
+                *lim = t;
             }
         });
         let (slot, t) = best?;
@@ -178,7 +168,14 @@ impl SplatGeometry {
             normal: (position - p.center).normalize_or_zero(),
             thickness_nm: p.thickness,
             coverage: 1,
-            particle: best_particle,
+            particle: self.bvh.order[slot as usize],
         })
+    }
+
+    /// Tie-break between two hits at the same distance: true if slot `a` holds the lower particle
+    /// index. Only evaluated on exact ties, so the slot order is rarely touched during traversal.
+    #[inline]
+    fn lower_particle(&self, a: u32, b: u32) -> bool {
+        self.bvh.order[a as usize] < self.bvh.order[b as usize]
     }
 }

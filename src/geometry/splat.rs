@@ -66,7 +66,10 @@ pub struct SplatGeometry {
 
 /// The first index `i < n` for which `bad(i)` holds (parallel search).
 fn first_bad(n: usize, bad: impl Fn(usize) -> bool + Sync) -> Option<usize> {
-    (0..n).into_par_iter().with_min_len(4096).find_first(|&i| bad(i))
+    (0..n)
+        .into_par_iter()
+        .with_min_len(4096)
+        .find_first(|&i| bad(i))
 }
 
 impl SplatGeometry {
