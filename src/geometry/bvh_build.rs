@@ -2,13 +2,13 @@
 //!
 //! Each node bins its primitives' centroids into `bins` buckets on all three axes in one pass,
 //! sweeps the buckets for the cheapest surface-area-heuristic split, partitions in place and
-//! recurses; child bounds come from the bucket sums, so every level costs one binning pass and one
-//! partition pass. Nodes with many primitives recurse in parallel (`rayon::join`); the right
+//! recurses; child bounds come from the bucket sums and child centroid bounds from the partition
+//! pass, so every level costs one binning pass and one partition pass. Nodes with many primitives recurse in parallel (`rayon::join`); the right
 //! subtree is then built into its own vector and appended with its child offsets shifted, which
 //! keeps the output depth-first. Deeper than [`MAX_SAH_DEPTH`] (pathological inputs) nodes fall
 //! back to median splits, bounding the tree depth for the fixed traversal stack.
 
-use glam::Vec3;
+use glam::{UVec3, Vec3A};
 use rayon::prelude::*;
 
 use super::Aabb;
@@ -16,45 +16,74 @@ use super::bvh::{BvhNode, BvhParams, STACK_SIZE};
 
 /// Depth after which nodes are split at the object median instead of by SAH.
 pub(crate) const MAX_SAH_DEPTH: usize = 48;
-const MAX_BINS: usize = 64;
 const _: () = assert!(MAX_SAH_DEPTH + 34 < STACK_SIZE);
 
-/// A primitive during the build: its box and original index (32 bytes, swapped by partitions).
+/// Nodes with at most this many primitives bin into 8 buckets instead of [`BvhParams::bins`].
+const SMALL_NODE: usize = 64;
+
+/// A SIMD box used during the build.
 #[derive(Clone, Copy)]
-#[repr(C)]
-struct BuildPrim {
-    min: Vec3,
-    index: u32,
-    max: Vec3,
-    _pad: u32,
+struct Box3 {
+    min: Vec3A,
+    max: Vec3A,
 }
 
-impl BuildPrim {
+impl Box3 {
+    const EMPTY: Box3 = Box3 {
+        min: Vec3A::INFINITY,
+        max: Vec3A::NEG_INFINITY,
+    };
+
+    #[inline(always)]
+    fn union(self, o: Box3) -> Box3 {
+        Box3 {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    #[inline(always)]
+    fn grow(&mut self, p: Vec3A) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    #[inline(always)]
+    fn area(self) -> f32 {
+        let e = (self.max - self.min).max(Vec3A::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
     /// Twice the centroid (binning only needs an affine image of it).
     #[inline(always)]
-    fn c2(&self) -> Vec3 {
+    fn c2(self) -> Vec3A {
         self.min + self.max
     }
 }
 
-#[derive(Clone, Copy)]
-struct Bin {
-    bounds: Aabb,
-    cbounds: Aabb,
-    count: u32,
-}
-
-const EMPTY_BIN: Bin = Bin {
-    bounds: Aabb::EMPTY,
-    cbounds: Aabb::EMPTY,
-    count: 0,
-};
-
-/// A chosen split: primitives `[..mid]` go left.
+/// A chosen split: primitives `[..mid]` go left; (bounds, centroid bounds) of each side.
 struct Split {
     mid: usize,
-    left: (Aabb, Aabb),
-    right: (Aabb, Aabb),
+    left: (Box3, Box3),
+    right: (Box3, Box3),
+}
+
+/// Primitive boxes and their original indices, permuted together by the partitions.
+struct Prims<'a> {
+    boxes: &'a mut [Box3],
+    ids: &'a mut [u32],
+}
+
+impl Prims<'_> {
+    fn len(&self) -> usize {
+        self.boxes.len()
+    }
+
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        let (bl, br) = self.boxes.split_at_mut(mid);
+        let (il, ir) = self.ids.split_at_mut(mid);
+        (Prims { boxes: bl, ids: il }, Prims { boxes: br, ids: ir })
+    }
 }
 
 /// Builds nodes and the slot order for `bounds`.
@@ -64,48 +93,45 @@ pub(crate) fn build(bounds: &[Aabb], params: BvhParams) -> (Vec<BvhNode>, Vec<u3
         return (Vec::new(), Vec::new());
     }
     let params = BvhParams {
-        bins: params.bins.clamp(2, MAX_BINS),
+        bins: params.bins.clamp(8, 32),
         max_leaf: params.max_leaf.clamp(1, 255),
         traversal_cost: params.traversal_cost.max(0.0),
         parallel_threshold: params.parallel_threshold.max(64),
     };
-    let mut prims: Vec<BuildPrim> = bounds
+    let mut boxes: Vec<Box3> = bounds
         .par_iter()
-        .enumerate()
-        .map(|(i, b)| BuildPrim {
-            min: b.min,
-            index: i as u32,
-            max: b.max,
-            _pad: 0,
+        .map(|b| Box3 {
+            min: b.min.into(),
+            max: b.max.into(),
         })
         .collect();
-    let (bb, cb) = summarize_par(&prims);
+    let mut ids: Vec<u32> = (0..n as u32).collect();
+    let (bb, cb) = boxes.par_chunks(16 * 1024).map(summarize).reduce(
+        || (Box3::EMPTY, Box3::EMPTY),
+        |a, b| (a.0.union(b.0), a.1.union(b.1)),
+    );
     let mut nodes = Vec::with_capacity(n);
-    build_node(&params, &mut prims, 0, bb, cb, 0, &mut nodes);
+    let prims = Prims {
+        boxes: &mut boxes,
+        ids: &mut ids,
+    };
+    build_node(&params, prims, 0, (bb, cb), 0, &mut nodes);
     nodes.shrink_to_fit();
-    let order = prims.par_iter().map(|p| p.index).collect();
-    (nodes, order)
+    (nodes, ids)
 }
 
-/// Bounds and centroid (×2) bounds of a slice, in parallel.
-fn summarize_par(prims: &[BuildPrim]) -> (Aabb, Aabb) {
-    prims.par_chunks(16 * 1024).map(summarize).reduce(
-        || (Aabb::EMPTY, Aabb::EMPTY),
-        |a, b| (a.0.union(&b.0), a.1.union(&b.1)),
-    )
-}
-
-fn summarize(prims: &[BuildPrim]) -> (Aabb, Aabb) {
-    let mut b = Aabb::EMPTY;
-    let mut c = Aabb::EMPTY;
-    for p in prims {
-        b = b.union(&Aabb::new(p.min, p.max));
+/// Bounds and centroid (×2) bounds of a slice.
+fn summarize(boxes: &[Box3]) -> (Box3, Box3) {
+    let mut b = Box3::EMPTY;
+    let mut c = Box3::EMPTY;
+    for p in boxes {
+        b = b.union(*p);
         c.grow(p.c2());
     }
     (b, c)
 }
 
-fn leaf(bounds: &Aabb, first: u32, count: usize) -> BvhNode {
+fn leaf(bounds: &Box3, first: u32, count: usize) -> BvhNode {
     BvhNode {
         min: bounds.min.to_array(),
         offset: first,
@@ -116,10 +142,9 @@ fn leaf(bounds: &Aabb, first: u32, count: usize) -> BvhNode {
 
 fn build_node(
     params: &BvhParams,
-    prims: &mut [BuildPrim],
+    prims: Prims<'_>,
     base: u32,
-    bounds: Aabb,
-    cbounds: Aabb,
+    (bounds, cbounds): (Box3, Box3),
     depth: usize,
     out: &mut Vec<BvhNode>,
 ) {
@@ -129,26 +154,19 @@ fn build_node(
     if n <= 1 {
         return;
     }
-    let Some(split) = choose_split(params, prims, &bounds, &cbounds, depth) else {
+    let mut prims = prims;
+    let Some(split) = choose_split(params, &mut prims, &bounds, &cbounds, depth) else {
         return;
     };
-    let (lp, rp) = prims.split_at_mut(split.mid);
+    let (lp, rp) = prims.split_at(split.mid);
     let right_base = base + split.mid as u32;
     out[me].count = 0;
     if n >= params.parallel_threshold {
         let ((), right_nodes) = rayon::join(
-            || build_node(params, lp, base, split.left.0, split.left.1, depth + 1, out),
+            || build_node(params, lp, base, split.left, depth + 1, out),
             || {
                 let mut v = Vec::with_capacity(rp.len());
-                build_node(
-                    params,
-                    rp,
-                    right_base,
-                    split.right.0,
-                    split.right.1,
-                    depth + 1,
-                    &mut v,
-                );
+                build_node(params, rp, right_base, split.right, depth + 1, &mut v);
                 v
             },
         );
@@ -161,140 +179,188 @@ fn build_node(
             nd
         }));
     } else {
-        build_node(params, lp, base, split.left.0, split.left.1, depth + 1, out);
+        build_node(params, lp, base, split.left, depth + 1, out);
         out[me].offset = out.len() as u32;
-        build_node(
-            params,
-            rp,
-            right_base,
-            split.right.0,
-            split.right.1,
-            depth + 1,
-            out,
-        );
+        build_node(params, rp, right_base, split.right, depth + 1, out);
     }
 }
 
-/// Picks a split for a node, or `None` to make it a leaf. Kept out of line so the bin arrays do
-/// not live in the recursive frames.
+/// Picks a split for a node and partitions it, or returns `None` to make it a leaf. Kept out of
+/// line so the bin arrays do not live in the recursive frames.
 #[inline(never)]
 fn choose_split(
     params: &BvhParams,
-    prims: &mut [BuildPrim],
-    bounds: &Aabb,
-    cbounds: &Aabb,
+    prims: &mut Prims<'_>,
+    bounds: &Box3,
+    cbounds: &Box3,
     depth: usize,
 ) -> Option<Split> {
     let n = prims.len();
+    if n as f32 <= params.traversal_cost && n <= params.max_leaf {
+        return None; // a split costs at least the traversal: no binning needed
+    }
     let ext = cbounds.max - cbounds.min;
-    let degenerate = !(ext.max_element() > 0.0);
+    let spread = ext.max_element() > 0.0;
+    let degenerate = !spread;
     if degenerate || depth >= MAX_SAH_DEPTH {
         if n <= params.max_leaf {
             return None;
         }
         return Some(median_split(prims, cbounds, degenerate));
     }
-
-    let nb = params.bins;
-    let scale = Vec3::select(ext.cmpgt(Vec3::ZERO), nb as f32 / ext, Vec3::ZERO);
-    let cmin = cbounds.min;
-    let mut bins = [[EMPTY_BIN; MAX_BINS]; 3];
-    for p in prims.iter() {
-        let c = p.c2();
-        let b = Aabb::new(p.min, p.max);
-        for (axis, axis_bins) in bins.iter_mut().enumerate() {
-            let k = bin_index(c[axis], cmin[axis], scale[axis], nb);
-            let bin = &mut axis_bins[k];
-            bin.bounds = bin.bounds.union(&b);
-            bin.cbounds.grow(c);
-            bin.count += 1;
+    let best = if n <= SMALL_NODE {
+        best_binned_split::<8>(prims.boxes, cbounds)
+    } else {
+        match params.bins {
+            8..=15 => best_binned_split::<8>(prims.boxes, cbounds),
+            16..=31 => best_binned_split::<16>(prims.boxes, cbounds),
+            _ => best_binned_split::<32>(prims.boxes, cbounds),
         }
-    }
-
-    // Sweep: cost of splitting before bin k on each axis.
-    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, k)
-    for axis in 0..3 {
-        if !(ext[axis] > 0.0) {
-            continue;
-        }
-        let bins = &bins[axis][..nb];
-        let mut right_cost = [0f32; MAX_BINS];
-        let mut acc = Aabb::EMPTY;
-        let mut cnt = 0u32;
-        for k in (1..nb).rev() {
-            acc = acc.union(&bins[k].bounds);
-            cnt += bins[k].count;
-            right_cost[k] = acc.surface_area() * cnt as f32;
-        }
-        let mut acc = Aabb::EMPTY;
-        let mut cnt = 0u32;
-        for k in 1..nb {
-            acc = acc.union(&bins[k - 1].bounds);
-            cnt += bins[k - 1].count;
-            if cnt == 0 || cnt as usize == n {
-                continue;
-            }
-            let cost = acc.surface_area() * cnt as f32 + right_cost[k];
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, k));
-            }
-        }
-    }
-    let Some((cost, axis, k)) = best else {
+    };
+    let Some(best) = best else {
         return (n > params.max_leaf).then(|| median_split(prims, cbounds, false));
     };
-    let area = bounds.surface_area();
+    let area = bounds.area();
     let split_cost = if area > 0.0 {
-        params.traversal_cost + cost / area
+        params.traversal_cost + best.cost / area
     } else {
         params.traversal_cost + n as f32 * 0.5
     };
     if n <= params.max_leaf && n as f32 <= split_cost {
         return None;
     }
-
-    let sum = |bins: &[Bin]| {
-        bins.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), x| {
-            (b.union(&x.bounds), c.union(&x.cbounds))
-        })
-    };
-    let left = sum(&bins[axis][..k]);
-    let right = sum(&bins[axis][k..nb]);
-    let (c0, s) = (cmin[axis], scale[axis]);
-    let mid = partition(prims, |p| bin_index(p.c2()[axis], c0, s, nb) < k);
-    Some(Split { mid, left, right })
+    let (axis, k, c0, s, nb) = (best.axis, best.k, cbounds.min, best.scale, best.nb);
+    let (mid, lc, rc) = partition(prims, |c| (((c - c0) * s)[axis] as usize).min(nb - 1) < k);
+    debug_assert_eq!(mid, best.left_count);
+    Some(Split {
+        mid,
+        left: (best.left, lc),
+        right: (best.right, rc),
+    })
 }
 
+/// The cheapest SAH split found by binning.
+struct BinnedSplit {
+    cost: f32,
+    axis: usize,
+    k: usize,
+    nb: usize,
+    scale: Vec3A,
+    left: Box3,
+    right: Box3,
+    left_count: usize,
+}
+
+/// Bins centroids into `NB` buckets on all three axes and sweeps for the cheapest split
+/// (unnormalised cost `area_left · n_left + area_right · n_right`).
 #[inline(always)]
-fn bin_index(v: f32, min: f32, scale: f32, nb: usize) -> usize {
-    (((v - min) * scale) as usize).min(nb - 1)
-}
-
-/// In-place partition; returns the number of elements satisfying `pred` (now at the front).
-fn partition(prims: &mut [BuildPrim], pred: impl Fn(&BuildPrim) -> bool) -> usize {
-    let (mut i, mut j) = (0, prims.len());
-    while i < j {
-        if pred(&prims[i]) {
-            i += 1;
-        } else {
-            j -= 1;
-            prims.swap(i, j);
+fn best_binned_split<const NB: usize>(boxes: &[Box3], cbounds: &Box3) -> Option<BinnedSplit> {
+    let n = boxes.len();
+    let ext = cbounds.max - cbounds.min;
+    let scale = Vec3A::select(ext.cmpgt(Vec3A::ZERO), NB as f32 / ext, Vec3A::ZERO);
+    let cmin = cbounds.min;
+    let mut bins = [[Box3::EMPTY; NB]; 3];
+    let mut counts = [[0u32; NB]; 3];
+    let top = UVec3::splat(NB as u32 - 1);
+    for b in boxes {
+        let k = ((b.c2() - cmin) * scale).as_uvec3().min(top);
+        for axis in 0..3 {
+            let k = k[axis] as usize;
+            bins[axis][k] = bins[axis][k].union(*b);
+            counts[axis][k] += 1;
         }
     }
-    i
+    let mut best: Option<(f32, usize, usize, usize)> = None; // (cost, axis, k, left count)
+    for axis in 0..3 {
+        let spread = ext[axis] > 0.0;
+        if !spread {
+            continue;
+        }
+        let (bins, counts) = (&bins[axis], &counts[axis]);
+        let mut right_cost = [0f32; NB];
+        let mut acc = Box3::EMPTY;
+        let mut cnt = 0u32;
+        for k in (1..NB).rev() {
+            acc = acc.union(bins[k]);
+            cnt += counts[k];
+            right_cost[k] = acc.area() * cnt as f32;
+        }
+        let mut acc = Box3::EMPTY;
+        let mut cnt = 0usize;
+        for k in 1..NB {
+            acc = acc.union(bins[k - 1]);
+            cnt += counts[k - 1] as usize;
+            if cnt == 0 || cnt == n {
+                continue;
+            }
+            let cost = acc.area() * cnt as f32 + right_cost[k];
+            if best.is_none_or(|b| cost < b.0) {
+                best = Some((cost, axis, k, cnt));
+            }
+        }
+    }
+    let (cost, axis, k, left_count) = best?;
+    let sum = |bins: &[Box3]| bins.iter().fold(Box3::EMPTY, |a, b| a.union(*b));
+    Some(BinnedSplit {
+        cost,
+        axis,
+        k,
+        nb: NB,
+        scale,
+        left: sum(&bins[axis][..k]),
+        right: sum(&bins[axis][k..]),
+        left_count,
+    })
+}
+
+/// In-place partition by centroid; returns the number of primitives satisfying `pred` (now at
+/// the front) and the centroid bounds of both sides.
+#[inline(always)]
+fn partition(prims: &mut Prims<'_>, pred: impl Fn(Vec3A) -> bool) -> (usize, Box3, Box3) {
+    let (mut lc, mut rc) = (Box3::EMPTY, Box3::EMPTY);
+    let (mut i, mut j) = (0, prims.len());
+    while i < j {
+        let c = prims.boxes[i].c2();
+        if pred(c) {
+            lc.grow(c);
+            i += 1;
+        } else {
+            rc.grow(c);
+            j -= 1;
+            prims.boxes.swap(i, j);
+            prims.ids.swap(i, j);
+        }
+    }
+    (i, lc, rc)
 }
 
 /// Object-median split along the widest centroid axis (any halving if all centroids coincide).
-fn median_split(prims: &mut [BuildPrim], cbounds: &Aabb, degenerate: bool) -> Split {
-    let mid = prims.len() / 2;
+fn median_split(prims: &mut Prims<'_>, cbounds: &Box3, degenerate: bool) -> Split {
+    let n = prims.len();
+    let mid = n / 2;
     if !degenerate {
-        let axis = cbounds.largest_axis();
-        prims.select_nth_unstable_by(mid, |a, b| a.c2()[axis].total_cmp(&b.c2()[axis]));
+        let ext = cbounds.max - cbounds.min;
+        let axis = if ext.x >= ext.y && ext.x >= ext.z {
+            0
+        } else if ext.y >= ext.z {
+            1
+        } else {
+            2
+        };
+        // Sort a permutation, then apply it to both arrays (rare path: pathological inputs).
+        let mut perm: Vec<usize> = (0..n).collect();
+        perm.select_nth_unstable_by(mid, |&a, &b| {
+            prims.boxes[a].c2()[axis].total_cmp(&prims.boxes[b].c2()[axis])
+        });
+        let boxes: Vec<Box3> = perm.iter().map(|&i| prims.boxes[i]).collect();
+        let ids: Vec<u32> = perm.iter().map(|&i| prims.ids[i]).collect();
+        prims.boxes.copy_from_slice(&boxes);
+        prims.ids.copy_from_slice(&ids);
     }
     Split {
         mid,
-        left: summarize(&prims[..mid]),
-        right: summarize(&prims[mid..]),
+        left: summarize(&prims.boxes[..mid]),
+        right: summarize(&prims.boxes[mid..]),
     }
 }
 
@@ -302,6 +368,7 @@ fn median_split(prims: &mut [BuildPrim], cbounds: &Aabb, degenerate: bool) -> Sp
 mod tests {
     use super::*;
     use crate::geometry::Bvh;
+    use glam::Vec3;
 
     /// Every slot appears once, every leaf's bounds hold its primitives, every interior node's
     /// bounds hold its children, and the depth stays within the stack.

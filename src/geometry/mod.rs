@@ -15,6 +15,7 @@ mod blend;
 mod bvh;
 mod bvh_build;
 pub mod primitives;
+mod query;
 mod splat;
 
 use std::fmt;

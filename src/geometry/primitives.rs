@@ -55,7 +55,7 @@ pub fn sphere_roots(ray: &Ray, center: Vec3, radius: f32) -> Option<(f32, f32)> 
     let perp = f + b * ray.dir; // f minus its component along dir
     let r2 = radius * radius;
     let disc = r2 - perp.length_squared();
-    if !(disc >= 0.0) {
+    if disc < 0.0 || disc.is_nan() {
         return None;
     }
     let c = f.length_squared() - r2;

@@ -3,9 +3,8 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::blend::{LayerSum, kernel};
 use super::primitives::{disk_bounds, intersect_disk, intersect_sphere, sphere_bounds};
-use super::{Aabb, Bvh, LayerBlend, Primitive, Ray};
+use super::{Aabb, Bvh, BvhParams, LayerBlend, Primitive, Ray};
 use crate::{Error, Result};
 
 /// One film crossing found by [`SplatGeometry::intersect`].
@@ -32,20 +31,20 @@ pub struct SurfaceHit {
 /// A disk in slot order (32 bytes).
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
-struct DiskPrim {
-    center: Vec3,
-    radius: f32,
-    normal: Vec3,
-    thickness: f32,
+pub(super) struct DiskPrim {
+    pub center: Vec3,
+    pub radius: f32,
+    pub normal: Vec3,
+    pub thickness: f32,
 }
 
 /// A sphere in slot order (20 bytes).
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
-struct SpherePrim {
-    center: Vec3,
-    radius: f32,
-    thickness: f32,
+pub(super) struct SpherePrim {
+    pub center: Vec3,
+    pub radius: f32,
+    pub thickness: f32,
 }
 
 /// Relative padding of primitive boxes so rounding in the hit point never makes the BVH cull a
@@ -54,20 +53,23 @@ const BOUNDS_PAD: f32 = 1e-6;
 
 /// Particles as disks or spheres in a [`Bvh`], with disk-layer blending ([`LayerBlend`]).
 ///
-/// Memory: 32 bytes per disk (20 per sphere) plus the BVH (about 20 bytes per particle), see
-/// [`SplatGeometry::memory_bytes`]. Queries are `&self` and thread-safe.
+/// Memory: 32 bytes per disk (20 per sphere) plus the BVH (about 16 bytes of nodes and 4 of slot
+/// order per particle): ~52 bytes per disk, ~43 per sphere, see [`SplatGeometry::memory_bytes`]. Queries are `&self` and thread-safe.
 #[derive(Clone, Debug)]
 pub struct SplatGeometry {
-    primitive: Primitive,
-    bvh: Bvh,
-    disks: Vec<DiskPrim>,
-    spheres: Vec<SpherePrim>,
-    blend: LayerBlend,
+    pub(super) primitive: Primitive,
+    pub(super) bvh: Bvh,
+    pub(super) disks: Vec<DiskPrim>,
+    pub(super) spheres: Vec<SpherePrim>,
+    pub(super) blend: LayerBlend,
 }
 
 /// The first index `i < n` for which `bad(i)` holds (parallel search).
 fn first_bad(n: usize, bad: impl Fn(usize) -> bool + Sync) -> Option<usize> {
-    (0..n).into_par_iter().find_first(|&i| bad(i))
+    (0..n)
+        .into_par_iter()
+        .with_min_len(4096)
+        .find_first(|&i| bad(i))
 }
 
 impl SplatGeometry {
@@ -82,6 +84,25 @@ impl SplatGeometry {
         normals: &[Vec3],
         radii: &[f32],
         thickness_nm: &[f32],
+    ) -> Result<Self> {
+        Self::build_with(
+            primitive,
+            positions,
+            normals,
+            radii,
+            thickness_nm,
+            BvhParams::default(),
+        )
+    }
+
+    /// [`SplatGeometry::build`] with explicit BVH build parameters.
+    pub fn build_with(
+        primitive: Primitive,
+        positions: &[Vec3],
+        normals: &[Vec3],
+        radii: &[f32],
+        thickness_nm: &[f32],
+        params: BvhParams,
     ) -> Result<Self> {
         let n = positions.len();
         let need_normals = primitive == Primitive::Disk;
@@ -145,7 +166,7 @@ impl SplatGeometry {
                 b.padded(pad(c, r))
             })
             .collect();
-        let bvh = Bvh::build(&bounds);
+        let bvh = Bvh::build_with(&bounds, params);
         drop(bounds);
         let order = bvh.order();
         let (disks, spheres) = match primitive {
@@ -190,15 +211,16 @@ impl SplatGeometry {
 
     /// The first film crossing with `t_min < t < t_max`. For disks, overlapping disks of the same
     /// layer are blended into one crossing (see [`LayerBlend`]); continue with
-    /// `t_min = hit.t_exit + eps` to find the next layer. Cost: one closest-hit BVH traversal,
-    /// plus for disks one short segment traversal.
+    /// `t_min = hit.t_exit + eps` to find the next layer. Cost: one BVH traversal (for disks it
+    /// runs on to the end of the layer band and collects the members on the way; a second, short
+    /// segment traversal is needed only for unusual layers, see the `query` module).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if !ray.is_valid() {
             return None;
         }
         match self.primitive {
-            Primitive::Sphere => self.intersect_sphere(ray, t_min, t_max),
-            Primitive::Disk => self.intersect_disk_layer(ray, t_min, t_max),
+            Primitive::Sphere => self.sphere_hit(ray, t_min, t_max),
+            Primitive::Disk => self.disk_layer_hit(ray, t_min, t_max),
         }
     }
 
@@ -210,7 +232,7 @@ impl SplatGeometry {
             return None;
         }
         match self.primitive {
-            Primitive::Sphere => self.intersect_sphere(ray, t_min, t_max),
+            Primitive::Sphere => self.sphere_hit(ray, t_min, t_max),
             Primitive::Disk => {
                 let (slot, t, _) = self.closest_disk(ray, t_min, t_max)?;
                 let d = &self.disks[slot as usize];
@@ -289,104 +311,5 @@ impl SplatGeometry {
     /// The underlying BVH (slot order and nodes), for statistics and debugging.
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
-    }
-
-    /// Closest disk `(slot, t, d2)`; ties in `t` go to the lowest particle index.
-    #[inline]
-    fn closest_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(u32, f32, f32)> {
-        let mut best: Option<(u32, f32, f32)> = None;
-        let mut best_particle = u32::MAX;
-        self.bvh.closest(ray, t_min, t_max, |s, t_lim| {
-            let d = &self.disks[s as usize];
-            let hi = if best.is_some() {
-                t_lim.next_up()
-            } else {
-                t_max
-            };
-            if let Some((t, d2)) = intersect_disk(ray, d.center, d.normal, d.radius, t_min, hi) {
-                let p = self.bvh.order[s as usize];
-                if t < *t_lim || p < best_particle {
-                    best = Some((s, t, d2));
-                    best_particle = p;
-                    *t_lim = t;
-                }
-            }
-        });
-        best
-    }
-
-    fn intersect_disk_layer(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let (slot0, t0, d2) = self.closest_disk(ray, t_min, t_max)?;
-        let d0 = &self.disks[slot0 as usize];
-        let order = &self.bvh.order;
-        let r2 = d0.radius * d0.radius;
-        let mut sum = LayerSum::new(
-            t0,
-            d0.normal,
-            d0.thickness,
-            order[slot0 as usize],
-            kernel(d2, r2),
-        );
-        let band = self.blend.band(d0.radius, d0.normal.dot(ray.dir).abs());
-        let t_end = (t0 + band).min(t_max);
-        if t_end > t0 {
-            let min_dot = self.blend.min_normal_dot;
-            self.bvh.visit_segment(ray, t0, t_end, |s| {
-                let d = &self.disks[s as usize];
-                if s == slot0 || d.normal.dot(d0.normal).abs() <= min_dot {
-                    return;
-                }
-                if let Some((t, d2)) =
-                    intersect_disk(ray, d.center, d.normal, d.radius, t_min, t_end)
-                {
-                    let w = kernel(d2, d.radius * d.radius);
-                    sum.add(t, d.normal, d.thickness, order[s as usize], w);
-                }
-            });
-        }
-        let b = sum.finish();
-        Some(SurfaceHit {
-            t: b.t,
-            t_exit: b.t_exit,
-            position: ray.at(b.t),
-            normal: b.normal,
-            thickness_nm: b.thickness_nm,
-            coverage: b.coverage,
-            particle: b.particle,
-        })
-    }
-
-    fn intersect_sphere(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let mut best: Option<(u32, f32)> = None;
-        let mut best_particle = u32::MAX;
-        self.bvh.closest(ray, t_min, t_max, |s, t_lim| {
-            let p = &self.spheres[s as usize];
-            let hi = if best.is_some() {
-                t_lim.next_up()
-            } else {
-                t_max
-            };
-            if let Some(t) = intersect_sphere(ray, p.center, p.radius, t_min, hi) {
-                let part = self.bvh.order[s as usize];
-                if t < *t_lim || part < best_particle {
-                    best = Some((s, t));
-                    best_particle = part;
-                    *t_lim = t;
-                }
-            }
-        });
-        let (slot, t) = best?;
-        let p = &self.spheres[slot as usize];
-        let position = ray.at(t);
-        let normal = (position - p.center).normalize_or_zero();
-        Some(SurfaceHit {
-            t,
-            t_exit: t,
-            position,
-            normal,
-            thickness_nm: p.thickness,
-            coverage: 1,
-            particle: best_particle,
-        })
     }
 }
