@@ -3,13 +3,20 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use filmsplat::optics::{FilmFresnel, film_rt};
-use filmsplat::spectrum::{FilmLut, SampledWavelengths, SpectralWeights, WavelengthRange, WavelengthStrategy};
+use filmsplat::spectrum::{
+    FilmLut, SampledWavelengths, SpectralWeights, WavelengthRange, WavelengthStrategy,
+};
 use std::hint::black_box;
 
 fn reflectance(c: &mut Criterion) {
     let mut g = c.benchmark_group("reflectance");
     for n in [4usize, 8, 16, 32] {
-        let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, n, WavelengthStrategy::Stratified, &[]);
+        let wl = SampledWavelengths::sample(
+            WavelengthRange::VISIBLE,
+            n,
+            WavelengthStrategy::Stratified,
+            &[],
+        );
         let inv: Vec<f32> = wl.as_slice().iter().map(|l| 1.0 / l).collect();
         let mut out = vec![0.0; n];
         g.bench_function(format!("fast_f32_{n}_wavelengths"), |b| {
@@ -35,7 +42,12 @@ fn reflectance(c: &mut Criterion) {
 fn hit_colour(c: &mut Criterion) {
     let mut g = c.benchmark_group("hit_rgb");
     for n in [8usize, 16, 32] {
-        let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, n, WavelengthStrategy::Jittered, &[0.3; 64]);
+        let wl = SampledWavelengths::sample(
+            WavelengthRange::VISIBLE,
+            n,
+            WavelengthStrategy::Jittered,
+            &[0.3; 64],
+        );
         let w = SpectralWeights::new(wl.as_slice());
         g.bench_function(format!("per_hit_{n}_wavelengths"), |b| {
             let mut h = 100.0f32;

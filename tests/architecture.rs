@@ -16,8 +16,36 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("samples", &["pointcloud"]),
     ("figure", &["spectrum", "optics", "image"]),
     ("render", &["geometry", "spectrum", "optics", "image"]),
-    ("pipeline", &["scene", "io", "pointcloud", "samples", "geometry", "render", "spectrum", "optics", "image"]),
-    ("cli", &["pipeline", "figure", "scene", "io", "pointcloud", "samples", "geometry", "render", "spectrum", "optics", "image"]),
+    (
+        "pipeline",
+        &[
+            "scene",
+            "io",
+            "pointcloud",
+            "samples",
+            "geometry",
+            "render",
+            "spectrum",
+            "optics",
+            "image",
+        ],
+    ),
+    (
+        "cli",
+        &[
+            "pipeline",
+            "figure",
+            "scene",
+            "io",
+            "pointcloud",
+            "samples",
+            "geometry",
+            "render",
+            "spectrum",
+            "optics",
+            "image",
+        ],
+    ),
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
@@ -50,7 +78,10 @@ fn stages_import_only_stages_below_them() {
                 let mut rest = line;
                 while let Some(pos) = rest.find("crate::") {
                     rest = &rest[pos + 7..];
-                    let used: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+                    let used: String = rest
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
                     if all.contains(used.as_str()) && used != *module {
                         assert!(
                             allowed.contains(&used.as_str()),
@@ -64,5 +95,8 @@ fn stages_import_only_stages_below_them() {
             }
         }
     }
-    assert!(checked > 10, "the scan found too few imports to be meaningful ({checked})");
+    assert!(
+        checked > 10,
+        "the scan found too few imports to be meaningful ({checked})"
+    );
 }

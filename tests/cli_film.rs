@@ -3,7 +3,10 @@
 use std::process::Command;
 
 fn filmsplat(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_filmsplat")).args(args).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_filmsplat"))
+        .args(args)
+        .output()
+        .unwrap();
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8(out.stdout).unwrap(),
@@ -12,11 +15,17 @@ fn filmsplat(args: &[&str]) -> (i32, String, String) {
 }
 
 fn csv(text: &str) -> Vec<Vec<f64>> {
-    text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect()
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect()
 }
 
 fn reference(name: &str) -> Vec<Vec<f64>> {
-    csv(&std::fs::read_to_string(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap())
+    csv(
+        &std::fs::read_to_string(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR")))
+            .unwrap(),
+    )
 }
 
 /// Distinct values of column `k` (in order of first appearance) among rows with `ior`.
@@ -27,7 +36,10 @@ fn distinct(rows: &[Vec<f64>], ior: f64, k: usize) -> String {
             seen.push(r[k]);
         }
     }
-    seen.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(",")
+    seen.iter()
+        .map(|v| v.to_string())
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 #[test]
@@ -55,7 +67,10 @@ fn every_reflectance_row_of_the_reference_is_met() {
                 .find(|g| g[0] == want[1] && g[1] == want[2] && g[2] == want[3])
                 .unwrap_or_else(|| panic!("no CLI row for {want:?}"));
             for k in 0..4 {
-                assert!((got[3 + k] - want[4 + k]).abs() < 1e-6, "{got:?} vs {want:?}");
+                assert!(
+                    (got[3 + k] - want[4 + k]).abs() < 1e-6,
+                    "{got:?} vs {want:?}"
+                );
             }
             matched += 1;
         }
@@ -85,9 +100,15 @@ fn every_colour_row_of_the_reference_is_met() {
         assert!(out.starts_with("thickness_nm,angle_deg,r,g,b\n"));
         let rows = csv(&out);
         for want in reference.iter().filter(|r| r[0] == ior) {
-            let got = rows.iter().find(|g| g[0] == want[1] && g[1] == want[2]).unwrap();
+            let got = rows
+                .iter()
+                .find(|g| g[0] == want[1] && g[1] == want[2])
+                .unwrap();
             for k in 0..3 {
-                assert!((got[2 + k] - want[3 + k]).abs() < 2e-3, "{got:?} vs {want:?}");
+                assert!(
+                    (got[2 + k] - want[3 + k]).abs() < 2e-3,
+                    "{got:?} vs {want:?}"
+                );
             }
             matched += 1;
         }
@@ -102,7 +123,15 @@ fn bad_arguments_give_one_line_errors_and_exit_code_2() {
         &["film", "--thickness", "nan", "--angle", "0"],
         &["film", "--thickness", "100", "--angle", "95"],
         &["film", "--thickness", "100", "--angle", "0", "--ior", "0.5"],
-        &["film", "--thickness", "100", "--angle", "0", "--wavelengths", "0:10:1"],
+        &[
+            "film",
+            "--thickness",
+            "100",
+            "--angle",
+            "0",
+            "--wavelengths",
+            "0:10:1",
+        ],
         &["film", "--thickness", "100"],
         &["film", "--thickness", "1:0:1", "--angle", "0"],
         &["film", "--bogus"],

@@ -1,11 +1,15 @@
 //! Invariants and extremes of the thin-film optics (no reference data needed).
 
 use filmsplat::optics::{FilmFresnel, check_film_params, film_rt};
-use filmsplat::spectrum::{FilmLut, SampledWavelengths, SpectralWeights, WavelengthRange, WavelengthStrategy};
+use filmsplat::spectrum::{
+    FilmLut, SampledWavelengths, SpectralWeights, WavelengthRange, WavelengthStrategy,
+};
 
 /// A small deterministic generator so the sweeps cover many values without a rand crate.
 fn lcg(state: &mut u64) -> f64 {
-    *state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     (*state >> 11) as f64 / (1u64 << 53) as f64
 }
 
@@ -20,7 +24,11 @@ fn energy_is_conserved_everywhere() {
         let rt = film_rt(cos_i, h, ior, lambda);
         for (r, t) in [(rt.rs, rt.ts), (rt.rp, rt.tp), (rt.r(), rt.t())] {
             assert!(r.is_finite() && t.is_finite());
-            assert!((r + t - 1.0).abs() < 1e-12, "R+T-1 = {} at cos {cos_i} h {h} n {ior} l {lambda}", r + t - 1.0);
+            assert!(
+                (r + t - 1.0).abs() < 1e-12,
+                "R+T-1 = {} at cos {cos_i} h {h} n {ior} l {lambda}",
+                r + t - 1.0
+            );
             assert!((0.0..=1.0 + 1e-12).contains(&r));
         }
     }
@@ -31,12 +39,18 @@ fn vanishing_film_reflects_nothing() {
     for cos_i in [0.0, 1e-9, 0.3, 1.0] {
         let rt = film_rt(cos_i, 0.0, 1.33, 500.0);
         assert_eq!((rt.r(), rt.t()), (0.0, 1.0));
-        assert_eq!(FilmFresnel::new(cos_i as f32, 1.33).reflectance(0.0, 1.0 / 500.0), 0.0);
+        assert_eq!(
+            FilmFresnel::new(cos_i as f32, 1.33).reflectance(0.0, 1.0 / 500.0),
+            0.0
+        );
     }
     // And continuously so: R ~ h² as h → 0.
     let r1 = film_rt(1.0, 1e-3, 1.33, 500.0).r();
     let r2 = film_rt(1.0, 2e-3, 1.33, 500.0).r();
-    assert!(r1 > 0.0 && r1 < 1e-9 && (r2 / r1 - 4.0).abs() < 1e-3, "{r1} {r2}");
+    assert!(
+        r1 > 0.0 && r1 < 1e-9 && (r2 / r1 - 4.0).abs() < 1e-3,
+        "{r1} {r2}"
+    );
     assert!(film_rt(1.0, 1e-6, 1.33, 500.0).r().is_finite());
 }
 
@@ -56,8 +70,17 @@ fn grazing_incidence_reflects_everything_without_nan() {
         let at_zero = film_rt(0.0, h, 1.33, 500.0);
         assert_eq!(at_zero.r(), 1.0);
         // Approaching grazing: R climbs toward 1 (away from resonances, sampled over λ).
-        let mean = |cos_i: f64| (0..100).map(|k| film_rt(cos_i, h, 1.33, 400.0 + 3.0 * k as f64).r()).sum::<f64>() / 100.0;
-        assert!(mean(1e-4) > 0.99 && mean(1e-4) > mean(0.1), "{h}: {}", mean(1e-4));
+        let mean = |cos_i: f64| {
+            (0..100)
+                .map(|k| film_rt(cos_i, h, 1.33, 400.0 + 3.0 * k as f64).r())
+                .sum::<f64>()
+                / 100.0
+        };
+        assert!(
+            mean(1e-4) > 0.99 && mean(1e-4) > mean(0.1),
+            "{h}: {}",
+            mean(1e-4)
+        );
         let fast = FilmFresnel::new(1e-6, 1.33);
         let r = fast.reflectance(h as f32, 1.0 / 500.0);
         assert!(r.is_finite() && r > 0.99, "{r}");
@@ -105,7 +128,8 @@ fn fast_path_agrees_with_reference_over_a_wide_sweep() {
         let ior = 1.0 + 2.0 * lcg(&mut s);
         let lambda = 360.0 + 470.0 * lcg(&mut s);
         let exact = film_rt(cos_i, h, ior, lambda).r();
-        let fast = FilmFresnel::new(cos_i as f32, ior as f32).reflectance(h as f32, 1.0 / lambda as f32) as f64;
+        let fast = FilmFresnel::new(cos_i as f32, ior as f32)
+            .reflectance(h as f32, 1.0 / lambda as f32) as f64;
         worst = worst.max((exact - fast).abs());
     }
     assert!(worst < 2e-4, "worst {worst}");
@@ -158,7 +182,10 @@ fn lut_matches_per_hit_integration() {
     let inside = lut.reflectance_rgb(1.0, FilmLut::MAX_THICKNESS_NM);
     let beyond = lut.reflectance_rgb(1.0, FilmLut::MAX_THICKNESS_NM + 1.0);
     for c in 0..3 {
-        assert!((inside[c] - beyond[c]).abs() < 0.01, "{inside:?} vs {beyond:?}");
+        assert!(
+            (inside[c] - beyond[c]).abs() < 0.01,
+            "{inside:?} vs {beyond:?}"
+        );
     }
 }
 
@@ -171,16 +198,31 @@ fn jittered_wavelengths_converge_to_the_reference_colour_on_thick_films() {
         SpectralWeights::new(&grid).film_reflectance_rgb(&FilmFresnel::new(1.0, 1.33), 5000.0)
     };
     let f = FilmFresnel::new(1.0, 1.33);
-    let colour_error = |rgb: [f32; 3]| (0..3).map(|c| (rgb[c] - reference[c]).abs()).fold(0.0, f32::max);
-    let fixed = SampledWavelengths::sample(WavelengthRange::VISIBLE, 8, WavelengthStrategy::Stratified, &[]);
-    let fixed_err = colour_error(SpectralWeights::new(fixed.as_slice()).film_reflectance_rgb(&f, 5000.0));
+    let colour_error = |rgb: [f32; 3]| {
+        (0..3)
+            .map(|c| (rgb[c] - reference[c]).abs())
+            .fold(0.0, f32::max)
+    };
+    let fixed = SampledWavelengths::sample(
+        WavelengthRange::VISIBLE,
+        8,
+        WavelengthStrategy::Stratified,
+        &[],
+    );
+    let fixed_err =
+        colour_error(SpectralWeights::new(fixed.as_slice()).film_reflectance_rgb(&f, 5000.0));
     let mut s = 5;
     let mut acc = [0.0f32; 3];
     let samples = 4096;
     let mut w = SpectralWeights::default();
     for _ in 0..samples {
         let u: Vec<f32> = (0..8).map(|_| lcg(&mut s) as f32).collect();
-        let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, 8, WavelengthStrategy::Jittered, &u);
+        let wl = SampledWavelengths::sample(
+            WavelengthRange::VISIBLE,
+            8,
+            WavelengthStrategy::Jittered,
+            &u,
+        );
         w.set_unbiased(wl.as_slice());
         let rgb = w.film_reflectance_rgb(&f, 5000.0);
         for c in 0..3 {
@@ -189,7 +231,10 @@ fn jittered_wavelengths_converge_to_the_reference_colour_on_thick_films() {
     }
     let jitter_err = colour_error(acc);
     assert!(fixed_err > 0.01, "fixed grid should alias: {fixed_err}");
-    assert!(jitter_err < 0.004 && jitter_err < fixed_err / 4.0, "jittered {jitter_err} vs fixed {fixed_err}");
+    assert!(
+        jitter_err < 0.004 && jitter_err < fixed_err / 4.0,
+        "jittered {jitter_err} vs fixed {fixed_err}"
+    );
 }
 
 #[test]

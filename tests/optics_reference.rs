@@ -52,9 +52,14 @@ fn film_colour_matches_colour_science() {
         let (ior, h, angle) = (r[0], r[1], r[2]);
         let cos_i = angle.to_radians().cos();
         let rgb = film_rgb_reference(cos_i, h, ior, &grid);
-        let fast = weights.film_reflectance_rgb(&FilmFresnel::new(cos_i as f32, ior as f32), h as f32);
+        let fast =
+            weights.film_reflectance_rgb(&FilmFresnel::new(cos_i as f32, ior as f32), h as f32);
         for c in 0..3 {
-            assert!((rgb[c] - r[3 + c]).abs() < 2e-3, "f64 h {h} angle {angle} c{c}: {rgb:?} vs {:?}", &r[3..]);
+            assert!(
+                (rgb[c] - r[3 + c]).abs() < 2e-3,
+                "f64 h {h} angle {angle} c{c}: {rgb:?} vs {:?}",
+                &r[3..]
+            );
             assert!(
                 (fast[c] as f64 - r[3 + c]).abs() < 2e-3,
                 "f32 h {h} angle {angle} c{c}: {fast:?} vs {:?}",

@@ -2,19 +2,34 @@
 
 use filmsplat::geometry::{Primitive, SplatGeometry};
 use filmsplat::optics::FilmFresnel;
-use filmsplat::render::{Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, render};
+use filmsplat::render::{
+    Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, render,
+};
 use filmsplat::samples::{BubbleParams, bubble};
-use filmsplat::spectrum::{SpectralWeights, WavelengthStrategy, film_rgb_reference, reference_grid_nm};
+use filmsplat::spectrum::{
+    SpectralWeights, WavelengthStrategy, film_rgb_reference, reference_grid_nm,
+};
 use glam::Vec3;
 
 fn settings(w: usize, h: usize, spp: u32) -> RenderSettings {
-    RenderSettings { width: w, height: h, spp, ..RenderSettings::default() }
+    RenderSettings {
+        width: w,
+        height: h,
+        spp,
+        ..RenderSettings::default()
+    }
 }
 
 /// One big disk of `thickness` nm in the z = 0 plane, seen head-on from +z.
 fn big_disk_scene(thickness: f32, env: Environment) -> Scene {
-    let geometry =
-        SplatGeometry::build(Primitive::Disk, &[Vec3::ZERO], &[Vec3::Z], &[10.0], &[thickness]).unwrap();
+    let geometry = SplatGeometry::build(
+        Primitive::Disk,
+        &[Vec3::ZERO],
+        &[Vec3::Z],
+        &[10.0],
+        &[thickness],
+    )
+    .unwrap();
     Scene {
         geometry,
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 10.0),
@@ -25,7 +40,11 @@ fn big_disk_scene(thickness: f32, env: Environment) -> Scene {
 }
 
 fn front_white_back_black() -> Environment {
-    Environment::Hemispheres { axis: Vec3::Z, toward: Vec3::ONE, away: Vec3::ZERO }
+    Environment::Hemispheres {
+        axis: Vec3::Z,
+        toward: Vec3::ONE,
+        away: Vec3::ZERO,
+    }
 }
 
 #[test]
@@ -52,7 +71,10 @@ fn a_disk_seen_head_on_has_the_colour_of_its_film() {
 
 #[test]
 fn a_white_furnace_makes_a_lossless_film_vanish() {
-    let cloud = bubble(&BubbleParams { particles: 4000, ..BubbleParams::default() });
+    let cloud = bubble(&BubbleParams {
+        particles: 4000,
+        ..BubbleParams::default()
+    });
     let geometry = SplatGeometry::build(
         Primitive::Disk,
         &cloud.positions,
@@ -61,13 +83,29 @@ fn a_white_furnace_makes_a_lossless_film_vanish() {
         cloud.thickness_nm.as_ref().unwrap(),
     )
     .unwrap();
-    let camera = Camera::frame(Vec3::ZERO, 1.05, Vec3::new(0.3, 0.2, 1.0), Vec3::Y, 40.0, 4.0 / 3.0);
-    let scene = Scene { geometry, camera, environment: Environment::Uniform(Vec3::ONE), layer_skip: 0.005, epsilon: 1e-5 };
+    let camera = Camera::frame(
+        Vec3::ZERO,
+        1.05,
+        Vec3::new(0.3, 0.2, 1.0),
+        Vec3::Y,
+        40.0,
+        4.0 / 3.0,
+    );
+    let scene = Scene {
+        geometry,
+        camera,
+        environment: Environment::Uniform(Vec3::ONE),
+        layer_skip: 0.005,
+        epsilon: 1e-5,
+    };
     for mode in [ShadingMode::Lut, ShadingMode::Rgb] {
         let shader = FilmShader::new(1.33, mode, 8, WavelengthStrategy::Hero);
         let out = render(&scene, &shader, &settings(32, 24, 2)).unwrap();
         let hit = out.alpha.iter().filter(|a| **a > 0.0).count();
-        assert!(hit > 200, "the bubble should cover much of the frame: {hit}");
+        assert!(
+            hit > 200,
+            "the bubble should cover much of the frame: {hit}"
+        );
         for c in &out.rgb {
             assert!((*c - Vec3::ONE).abs().max_element() < 1e-4, "{mode}: {c:?}");
         }
@@ -78,12 +116,26 @@ fn a_white_furnace_makes_a_lossless_film_vanish() {
 fn renders_are_deterministic_for_a_seed_and_independent_of_threads() {
     let scene = big_disk_scene(400.0, Environment::Studio(Default::default()));
     let shader = FilmShader::new(1.33, ShadingMode::Rgb, 8, WavelengthStrategy::Jittered);
-    let s = RenderSettings { seed: 7, ..settings(24, 16, 4) };
+    let s = RenderSettings {
+        seed: 7,
+        ..settings(24, 16, 4)
+    };
     let a = render(&scene, &shader, &s).unwrap();
-    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
     let b = one_thread.install(|| render(&scene, &shader, &s).unwrap());
     assert_eq!(a.rgb, b.rgb);
-    let c = render(&scene, &shader, &RenderSettings { seed: 8, ..s.clone() }).unwrap();
+    let c = render(
+        &scene,
+        &shader,
+        &RenderSettings {
+            seed: 8,
+            ..s.clone()
+        },
+    )
+    .unwrap();
     assert_ne!(a.rgb, c.rgb, "another seed jitters differently");
 }
 
@@ -96,7 +148,9 @@ fn overlapping_splats_make_one_seamless_film() {
     let mut thickness = Vec::new();
     let mut state = 12345u64;
     let mut rnd = || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (state >> 40) as f32 / (1u64 << 24) as f32
     };
     let h_of = |x: f32| 200.0 + 300.0 * (x + 1.5) / 3.0;
@@ -110,7 +164,14 @@ fn overlapping_splats_make_one_seamless_film() {
         }
     }
     let n = positions.len();
-    let geometry = SplatGeometry::build(Primitive::Disk, &positions, &vec![Vec3::Z; n], &vec![1.5 * spacing; n], &thickness).unwrap();
+    let geometry = SplatGeometry::build(
+        Primitive::Disk,
+        &positions,
+        &vec![Vec3::Z; n],
+        &vec![1.5 * spacing; n],
+        &thickness,
+    )
+    .unwrap();
     let scene = Scene {
         geometry,
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 20.0), Vec3::ZERO, Vec3::Y, 7.0),
@@ -133,31 +194,60 @@ fn overlapping_splats_make_one_seamless_film() {
                 multi += 1;
             }
             // The point this pixel sees on the plane z = 0.
-            let ray = scene.camera.ray((px as f32 + 0.5) / w as f32, (py as f32 + 0.5) / h as f32, w as f32 / h as f32);
+            let ray = scene.camera.ray(
+                (px as f32 + 0.5) / w as f32,
+                (py as f32 + 0.5) / h as f32,
+                w as f32 / h as f32,
+            );
             let p = ray.origin + ray.dir * (-ray.origin.z / ray.dir.z);
             let cos_i = ray.dir.z.abs();
             let want = weights.film_reflectance_rgb(&FilmFresnel::new(cos_i, 1.33), h_of(p.x));
-            for c in 0..3 {
-                worst = worst.max((out.rgb[k][c] - want[c]).abs());
+            for (c, w) in want.iter().enumerate() {
+                worst = worst.max((out.rgb[k][c] - w).abs());
             }
         }
     }
-    assert!(multi > w * h / 2, "most pixels should blend several splats ({multi})");
+    assert!(
+        multi > w * h / 2,
+        "most pixels should blend several splats ({multi})"
+    );
     // Blending by jittered splat centres gives the thickness to within a few nm, ~0.005 in colour.
-    assert!(worst < 0.012, "worst colour deviation from the analytic film: {worst}");
+    assert!(
+        worst < 0.012,
+        "worst colour deviation from the analytic film: {worst}"
+    );
 }
 
 #[test]
 fn no_nan_or_inf_reaches_the_image_at_extremes() {
-    for (thickness, ior) in [(0.0f32, 1.0f32), (0.0, 1.33), (100_000.0, 1.33), (1e-6, 3.0)] {
+    for (thickness, ior) in [
+        (0.0f32, 1.0f32),
+        (0.0, 1.33),
+        (100_000.0, 1.33),
+        (1e-6, 3.0),
+    ] {
         let scene = big_disk_scene(thickness, Environment::Studio(Default::default()));
         let shader = FilmShader::new(ior, ShadingMode::Rgb, 8, WavelengthStrategy::Jittered);
         let out = render(&scene, &shader, &settings(16, 12, 2)).unwrap();
         // Finite and bounded. (Single samples of the spectral estimator may dip slightly below
         // zero in one channel, as any unbiased estimate of an out-of-gamut colour can.)
-        let bad: Vec<_> = out.rgb.iter().filter(|c| !(c.is_finite() && c.abs().max_element() < 10.0)).collect();
-        assert!(bad.is_empty(), "h {thickness} ior {ior}: {:?}", &bad[..bad.len().min(3)]);
-        assert!(out.depth.iter().chain(&out.thickness).chain(&out.hits).all(|v| v.is_finite()));
+        let bad: Vec<_> = out
+            .rgb
+            .iter()
+            .filter(|c| !(c.is_finite() && c.abs().max_element() < 10.0))
+            .collect();
+        assert!(
+            bad.is_empty(),
+            "h {thickness} ior {ior}: {:?}",
+            &bad[..bad.len().min(3)]
+        );
+        assert!(
+            out.depth
+                .iter()
+                .chain(&out.thickness)
+                .chain(&out.hits)
+                .all(|v| v.is_finite())
+        );
     }
     let scene = big_disk_scene(300.0, Environment::Uniform(Vec3::ONE));
     let shader = FilmShader::new(1.33, ShadingMode::Lut, 8, WavelengthStrategy::Jittered);

@@ -9,8 +9,10 @@ use std::io::Write;
 
 /// Arguments of `filmsplat film`.
 #[derive(Debug, Args)]
-#[command(after_help = "Examples:\n  filmsplat film --thickness 0,100,300 --angle 0,45,89\n  \
-filmsplat film --rgb --thickness 0:1500:25 --angle 0 --ior 1.33")]
+#[command(
+    after_help = "Examples:\n  filmsplat film --thickness 0,100,300 --angle 0,45,89\n  \
+filmsplat film --rgb --thickness 0:1500:25 --angle 0 --ior 1.33"
+)]
 pub struct FilmArgs {
     /// Film thicknesses in nanometres: a comma-separated list, items may be ranges start:end:step
     /// (e.g. 0,100,300 or 0:1000:50).
@@ -35,16 +37,28 @@ pub struct FilmArgs {
 
 /// Runs `filmsplat film`.
 pub fn run(args: &FilmArgs, out: &mut dyn Write) -> Result<()> {
-    let thicknesses: Vec<f64> = args.thickness.iter().flat_map(|l| l.0.iter().copied()).collect();
-    let angles: Vec<f64> = args.angle.iter().flat_map(|l| l.0.iter().copied()).collect();
+    let thicknesses: Vec<f64> = args
+        .thickness
+        .iter()
+        .flat_map(|l| l.0.iter().copied())
+        .collect();
+    let angles: Vec<f64> = args
+        .angle
+        .iter()
+        .flat_map(|l| l.0.iter().copied())
+        .collect();
     if thicknesses.is_empty() || angles.is_empty() {
-        return Err(Error::invalid("film: give at least one --thickness and one --angle"));
+        return Err(Error::invalid(
+            "film: give at least one --thickness and one --angle",
+        ));
     }
     for &h in &thicknesses {
         check_film_params(args.ior, h).map_err(|m| Error::invalid(format!("film: {m}")))?;
     }
     if let Some(a) = angles.iter().find(|a| !(0.0..=90.0).contains(*a)) {
-        return Err(Error::invalid(format!("film: angle {a} is outside 0..90 degrees")));
+        return Err(Error::invalid(format!(
+            "film: angle {a} is outside 0..90 degrees"
+        )));
     }
     let lambdas = match &args.wavelengths {
         Some(l) => l.0.clone(),
@@ -52,7 +66,9 @@ pub fn run(args: &FilmArgs, out: &mut dyn Write) -> Result<()> {
         None => parse::range("380:780:5").expect("valid default"),
     };
     if let Some(l) = lambdas.iter().find(|l| !(100.0..=10_000.0).contains(*l)) {
-        return Err(Error::invalid(format!("film: wavelength {l} nm is outside 100..10000 nm")));
+        return Err(Error::invalid(format!(
+            "film: wavelength {l} nm is outside 100..10000 nm"
+        )));
     }
     let io = |e: std::io::Error| Error::invalid(format!("film: writing output: {e}"));
     if args.rgb {
@@ -71,7 +87,8 @@ pub fn run(args: &FilmArgs, out: &mut dyn Write) -> Result<()> {
             } else {
                 for &l in &lambdas {
                     let rt = film_rt(cos_i, h, args.ior, l);
-                    writeln!(out, "{h},{a},{l},{},{},{},{}", rt.r(), rt.t(), rt.rs, rt.rp).map_err(io)?;
+                    writeln!(out, "{h},{a},{l},{},{},{},{}", rt.r(), rt.t(), rt.rs, rt.rp)
+                        .map_err(io)?;
                 }
             }
         }

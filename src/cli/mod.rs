@@ -27,7 +27,7 @@ enum Command {
     /// Draw the interference colour chart (colour against thickness and angle) as a PNG.
     Chart(chart::ChartArgs),
     /// Render a particle cloud (.ply) or a scene file (.toml) to PNG or EXR.
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// Describe a particle file: counts, attributes, bounds, spacing, thickness.
     Info(info::InfoArgs),
     /// Write a built-in sample cloud (e.g. a soap bubble) as PLY.

@@ -41,38 +41,34 @@ pub fn range(s: &str) -> Result<Vec<f64>, String> {
     }
     let n = ((b - a) / step + 1e-9).floor() as usize + 1;
     if n > MAX_RANGE_VALUES {
-        return Err(format!("range '{s}' has {n} values, more than the {MAX_RANGE_VALUES} allowed"));
+        return Err(format!(
+            "range '{s}' has {n} values, more than the {MAX_RANGE_VALUES} allowed"
+        ));
     }
     Ok((0..n).map(|i| a + i as f64 * step).collect())
 }
 
 fn number(s: &str) -> Result<f64, String> {
-    let v: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
     if !v.is_finite() {
         return Err(format!("'{s}' is not a finite number"));
     }
     Ok(v)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lists_and_ranges() {
-        assert_eq!(number_list("0,100,300").unwrap(), vec![0.0, 100.0, 300.0]);
-        assert_eq!(number_list("380:400:10").unwrap(), vec![380.0, 390.0, 400.0]);
-        assert_eq!(number_list("1:2:0.5,7").unwrap(), vec![1.0, 1.5, 2.0, 7.0]);
-        for bad in ["", "1,,2", "a", "1:2", "2:1:1", "1:2:0", "nan", "0:1e12:1e-3"] {
-            assert!(number_list(bad).is_err(), "{bad}");
-        }
-    }
-}
-
 /// Parses an image size `WIDTHxHEIGHT`, e.g. `1280x720`.
 pub fn size(s: &str) -> Result<(usize, usize), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("size '{s}' must be WIDTHxHEIGHT, e.g. 1280x720"))?;
-    let parse = |v: &str| v.trim().parse::<usize>().map_err(|_| format!("size '{s}' must be WIDTHxHEIGHT with whole numbers"));
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("size '{s}' must be WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("size '{s}' must be WIDTHxHEIGHT with whole numbers"))
+    };
     Ok((parse(w)?, parse(h)?))
 }
 
@@ -82,5 +78,32 @@ pub fn vec3(s: &str) -> Result<[f32; 3], String> {
     match v[..] {
         [x, y, z] => Ok([x as f32, y as f32, z as f32]),
         _ => Err(format!("'{s}' must be three numbers x,y,z")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_and_ranges() {
+        assert_eq!(number_list("0,100,300").unwrap(), vec![0.0, 100.0, 300.0]);
+        assert_eq!(
+            number_list("380:400:10").unwrap(),
+            vec![380.0, 390.0, 400.0]
+        );
+        assert_eq!(number_list("1:2:0.5,7").unwrap(), vec![1.0, 1.5, 2.0, 7.0]);
+        for bad in [
+            "",
+            "1,,2",
+            "a",
+            "1:2",
+            "2:1:1",
+            "1:2:0",
+            "nan",
+            "0:1e12:1e-3",
+        ] {
+            assert!(number_list(bad).is_err(), "{bad}");
+        }
     }
 }

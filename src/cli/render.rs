@@ -107,11 +107,17 @@ fn attribute_help() -> String {
 /// The scene description: from the TOML file, or a default one around a particle file; then the
 /// flags on top. Returns it with the folder its paths are relative to.
 fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
-    let is_toml = a.input.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let is_toml = a
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     let (mut d, base) = if is_toml {
         let text = std::fs::read_to_string(&a.input).map_err(|e| Error::io(&a.input, e))?;
         let d = SceneDesc::from_toml(&text, &a.input.display().to_string())?;
-        (d, a.input.parent().map(Path::to_path_buf).unwrap_or_default())
+        (
+            d,
+            a.input.parent().map(Path::to_path_buf).unwrap_or_default(),
+        )
     } else {
         let mut d = SceneDesc::default();
         d.input.cloud = Some(a.input.clone());
@@ -158,7 +164,8 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
             path => {
                 d.environment.kind = Some("map".into());
                 // A path given on the command line is relative to the working directory.
-                d.environment.map = Some(std::path::absolute(path).map_err(|e| Error::io(path, e))?);
+                d.environment.map =
+                    Some(std::path::absolute(path).map_err(|e| Error::io(path, e))?);
             }
         }
     }
@@ -174,9 +181,15 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         (None, None) => PathBuf::from("render.png"),
     };
     for p in std::iter::once(&output).chain(a.exr.as_ref()) {
-        let ext = p.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("png" | "exr")) {
-            return Err(Error::invalid(format!("{}: output must end in .png or .exr", p.display())));
+            return Err(Error::invalid(format!(
+                "{}: output must end in .png or .exr",
+                p.display()
+            )));
         }
     }
     let progress = !a.quiet && std::io::stderr().is_terminal();

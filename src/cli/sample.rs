@@ -36,15 +36,28 @@ pub struct SampleArgs {
 /// Runs `filmsplat sample`.
 pub fn run(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
     if a.particles == 0 || a.particles > 50_000_000 {
-        return Err(Error::invalid(format!("sample: --particles must be 1..=50000000, got {}", a.particles)));
+        return Err(Error::invalid(format!(
+            "sample: --particles must be 1..=50000000, got {}",
+            a.particles
+        )));
     }
     if !a.time.is_finite() {
         return Err(Error::invalid("sample: --time must be finite"));
     }
     let cloud = match a.name {
-        SampleName::Bubble => bubble(&BubbleParams { particles: a.particles, seed: a.seed, time: a.time, ..BubbleParams::default() }),
+        SampleName::Bubble => bubble(&BubbleParams {
+            particles: a.particles,
+            seed: a.seed,
+            time: a.time,
+            ..BubbleParams::default()
+        }),
     };
     write_ply(&a.output, &cloud)?;
-    let _ = writeln!(out, "wrote {} particles to {}", cloud.len(), a.output.display());
+    let _ = writeln!(
+        out,
+        "wrote {} particles to {}",
+        cloud.len(),
+        a.output.display()
+    );
     Ok(())
 }

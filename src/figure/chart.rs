@@ -23,7 +23,13 @@ pub struct ChartParams {
 
 impl Default for ChartParams {
     fn default() -> Self {
-        ChartParams { max_thickness_nm: 1500.0, ior: 1.33, max_angle_deg: 89.0, width: 1600, height: 900 }
+        ChartParams {
+            max_thickness_nm: 1500.0,
+            ior: 1.33,
+            max_angle_deg: 89.0,
+            width: 1600,
+            height: 900,
+        }
     }
 }
 
@@ -34,7 +40,11 @@ const GRID: [f32; 3] = [0.35, 0.35, 0.35];
 fn nice_step(span: f32, target: f32) -> f32 {
     let raw = span / target;
     let mag = 10f32.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag)
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag)
 }
 
 /// Renders the chart as a linear-RGB image (white background), ready for sRGB encoding with a
@@ -49,7 +59,12 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
     let (w, h) = (p.width.max(400), p.height.max(300));
     let mut img = RgbImage::filled(w, h, [1.0; 3]);
     let s = (h as f32 / 900.0).max(0.5); // type scale
-    let (left, right, top, bottom) = ((120.0 * s) as usize, (40.0 * s) as usize, (96.0 * s) as usize, (100.0 * s) as usize);
+    let (left, right, top, bottom) = (
+        (120.0 * s) as usize,
+        (40.0 * s) as usize,
+        (96.0 * s) as usize,
+        (100.0 * s) as usize,
+    );
     let (pw, ph) = (w - left - right, h - top - bottom);
 
     // The plot: one row per pixel row, angle decreasing upward from max at the top.
@@ -64,7 +79,9 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
             (0..pw)
                 .map(|c| {
                     let thickness = p.max_thickness_nm * (c as f32 + 0.5) / pw as f32;
-                    let rgb = weights.film_reflectance_rgb(&fresnel, thickness).map(|v| (v * exposure).max(0.0));
+                    let rgb = weights
+                        .film_reflectance_rgb(&fresnel, thickness)
+                        .map(|v| (v * exposure).max(0.0));
                     let m = rgb[0].max(rgb[1]).max(rgb[2]);
                     if m > 1.0 { rgb.map(|v| v / m) } else { rgb }
                 })
@@ -78,7 +95,12 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
     }
 
     // Frame, ticks, labels.
-    let (x0, y0, x1, y1) = (left as f32, top as f32, (left + pw) as f32, (top + ph) as f32);
+    let (x0, y0, x1, y1) = (
+        left as f32,
+        top as f32,
+        (left + pw) as f32,
+        (top + ph) as f32,
+    );
     let tick = 8.0 * s;
     let label = 20.0 * s;
     let x_step = nice_step(p.max_thickness_nm, 12.0);
@@ -86,7 +108,15 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
     while v <= p.max_thickness_nm + 1e-3 {
         let x = x0 + v / p.max_thickness_nm * pw as f32;
         draw_line(&mut img, x, y1, x, y1 + tick, 1.5 * s, INK);
-        draw_text(&mut img, x, y1 + tick + 4.0 * s, &format!("{v}"), label, INK, Anchor::TOP_CENTRE);
+        draw_text(
+            &mut img,
+            x,
+            y1 + tick + 4.0 * s,
+            &format!("{v}"),
+            label,
+            INK,
+            Anchor::TOP_CENTRE,
+        );
         v += x_step;
     }
     // Minor ticks.
@@ -101,17 +131,65 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
     while a <= p.max_angle_deg + 1e-3 {
         let y = y1 - a / p.max_angle_deg * ph as f32;
         draw_line(&mut img, x0 - tick, y, x0, y, 1.5 * s, INK);
-        draw_text(&mut img, x0 - tick - 6.0 * s, y, &format!("{a}°"), label, INK, Anchor::MIDDLE_RIGHT);
+        draw_text(
+            &mut img,
+            x0 - tick - 6.0 * s,
+            y,
+            &format!("{a}°"),
+            label,
+            INK,
+            Anchor::MIDDLE_RIGHT,
+        );
         a += y_step;
     }
-    for (xa, ya, xb, yb) in [(x0, y0, x1, y0), (x0, y1, x1, y1), (x0, y0, x0, y1), (x1, y0, x1, y1)] {
+    for (xa, ya, xb, yb) in [
+        (x0, y0, x1, y0),
+        (x0, y1, x1, y1),
+        (x0, y0, x0, y1),
+        (x1, y0, x1, y1),
+    ] {
         draw_line(&mut img, xa, ya, xb, yb, 1.5 * s, INK);
     }
-    draw_text(&mut img, 0.5 * (x0 + x1), h as f32 - 22.0 * s, "Film thickness (nm)", 24.0 * s, INK, Anchor::BASELINE_CENTRE);
-    draw_text_vertical(&mut img, 30.0 * s, 0.5 * (y0 + y1), "Angle of incidence (degrees)", 24.0 * s, INK, Anchor::CENTRE);
-    let title = format!("Thin-film interference colours: film of n = {} in air, D65 light, CIE 1931 2°", p.ior);
-    draw_text(&mut img, x0, 40.0 * s, &title, 28.0 * s, INK, Anchor::BASELINE_LEFT);
+    draw_text(
+        &mut img,
+        0.5 * (x0 + x1),
+        h as f32 - 22.0 * s,
+        "Film thickness (nm)",
+        24.0 * s,
+        INK,
+        Anchor::BASELINE_CENTRE,
+    );
+    draw_text_vertical(
+        &mut img,
+        30.0 * s,
+        0.5 * (y0 + y1),
+        "Angle of incidence (degrees)",
+        24.0 * s,
+        INK,
+        Anchor::CENTRE,
+    );
+    let title = format!(
+        "Thin-film interference colours: film of n = {} in air, D65 light, CIE 1931 2°",
+        p.ior
+    );
+    draw_text(
+        &mut img,
+        x0,
+        40.0 * s,
+        &title,
+        28.0 * s,
+        INK,
+        Anchor::BASELINE_LEFT,
+    );
     let sub = "Reflected colour; each angle exposed so a very thick film appears light grey";
-    draw_text(&mut img, x0, 70.0 * s, sub, 18.0 * s, [0.25; 3], Anchor::BASELINE_LEFT);
+    draw_text(
+        &mut img,
+        x0,
+        70.0 * s,
+        sub,
+        18.0 * s,
+        [0.25; 3],
+        Anchor::BASELINE_LEFT,
+    );
     img
 }

@@ -11,7 +11,9 @@ use std::path::Path;
 pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
     let mut columns: Vec<(&str, &[f32])> = Vec::new();
     let n = cloud.len();
-    let mut header = format!("ply\nformat binary_little_endian 1.0\ncomment written by filmsplat\nelement vertex {n}\n");
+    let mut header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment written by filmsplat\nelement vertex {n}\n"
+    );
     for name in ["x", "y", "z"] {
         header.push_str(&format!("property float {name}\n"));
     }
@@ -29,7 +31,10 @@ pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
     }
     for (name, v) in &columns {
         if v.len() != n {
-            return Err(Error::Internal(format!("attribute {name} has {} values for {n} particles", v.len())));
+            return Err(Error::Internal(format!(
+                "attribute {name} has {} values for {n} particles",
+                v.len()
+            )));
         }
         header.push_str(&format!("property float {name}\n"));
     }
@@ -49,9 +54,18 @@ pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
             put(v[i]);
         }
     }
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().ok_or_else(|| Error::invalid(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(".{}.tmp-{}", name.to_string_lossy(), std::process::id()));
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::invalid(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
     let result = std::fs::File::create(&tmp)
         .and_then(|mut f| {
             f.write_all(&body)?;

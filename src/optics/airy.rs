@@ -26,19 +26,28 @@ impl C64 {
 impl Add for C64 {
     type Output = C64;
     fn add(self, o: C64) -> C64 {
-        C64 { re: self.re + o.re, im: self.im + o.im }
+        C64 {
+            re: self.re + o.re,
+            im: self.im + o.im,
+        }
     }
 }
 impl Sub for C64 {
     type Output = C64;
     fn sub(self, o: C64) -> C64 {
-        C64 { re: self.re - o.re, im: self.im - o.im }
+        C64 {
+            re: self.re - o.re,
+            im: self.im - o.im,
+        }
     }
 }
 impl Mul for C64 {
     type Output = C64;
     fn mul(self, o: C64) -> C64 {
-        C64 { re: self.re * o.re - self.im * o.im, im: self.re * o.im + self.im * o.re }
+        C64 {
+            re: self.re * o.re - self.im * o.im,
+            im: self.re * o.im + self.im * o.re,
+        }
     }
 }
 impl Div for C64 {
@@ -97,7 +106,12 @@ pub fn film_rt(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: f64) -> FilmR
     let (n0, n1) = (1.0, ior);
     let c0 = cos_i.clamp(0.0, 1.0);
     if thickness_nm == 0.0 {
-        return FilmRT { rs: 0.0, rp: 0.0, ts: 1.0, tp: 1.0 };
+        return FilmRT {
+            rs: 0.0,
+            rp: 0.0,
+            ts: 1.0,
+            tp: 1.0,
+        };
     }
     // Snell: n0 sin θi = n1 sin θt.
     let sin_t = n0 * (1.0 - c0 * c0).max(0.0).sqrt() / n1;
@@ -108,13 +122,21 @@ pub fn film_rt(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: f64) -> FilmR
         // limit along cos θi → 0 is R = 0.
         let resonant = (0.5 * phase).sin() == 0.0;
         let (r, t) = if resonant { (0.0, 1.0) } else { (1.0, 0.0) };
-        return FilmRT { rs: r, rp: r, ts: t, tp: t };
+        return FilmRT {
+            rs: r,
+            rp: r,
+            ts: t,
+            tp: t,
+        };
     }
     let e = C64::cis(phase);
     let e_half = C64::cis(0.5 * phase);
     // 1 − e^{iφ} = 2 sin²(φ/2) − i sin φ, exactly, without cancellation for small φ.
     let s_half = (0.5 * phase).sin();
-    let one_minus_e = C64 { re: 2.0 * s_half * s_half, im: -phase.sin() };
+    let one_minus_e = C64 {
+        re: 2.0 * s_half * s_half,
+        im: -phase.sin(),
+    };
     let airy = |r01: f64, t01: f64, r10: f64, t10: f64| -> (f64, f64) {
         // 1 − r10² e^{iφ}, written as (1 − r10²) + r10² (1 − e^{iφ}) with 1 − r10² = t01 t10
         // (Stokes relations), which stays accurate when r10² → 1 (grazing) and φ → 0.
@@ -125,7 +147,12 @@ pub fn film_rt(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: f64) -> FilmR
     };
     // s polarisation (E perpendicular to the plane of incidence).
     let (a, b) = (n0 * c0, n1 * c1);
-    let (rs, ts) = airy((a - b) / (a + b), 2.0 * a / (a + b), (b - a) / (a + b), 2.0 * b / (a + b));
+    let (rs, ts) = airy(
+        (a - b) / (a + b),
+        2.0 * a / (a + b),
+        (b - a) / (a + b),
+        2.0 * b / (a + b),
+    );
     // p polarisation (E in the plane of incidence).
     let (a, b) = (n1 * c0, n0 * c1);
     let (rp, tp) = airy(
@@ -150,7 +177,15 @@ mod tests {
         let samples = 20_000;
         let period = 500.0 / (2.0 * n);
         let mean: f64 = (0..samples)
-            .map(|i| film_rt(1.0, 1000.0 + (i as f64 + 0.5) * period / samples as f64, n, 500.0).r())
+            .map(|i| {
+                film_rt(
+                    1.0,
+                    1000.0 + (i as f64 + 0.5) * period / samples as f64,
+                    n,
+                    500.0,
+                )
+                .r()
+            })
             .sum::<f64>()
             / samples as f64;
         assert!((mean - 2.0 * rho / (1.0 + rho)).abs() < 1e-9, "{mean}");

@@ -75,7 +75,11 @@ impl FilmFresnel {
 
     /// Fixed-size version of [`reflectance_into`](Self::reflectance_into).
     #[inline]
-    pub fn reflectance_n<const N: usize>(&self, thickness_nm: f32, inv_lambda: &[f32; N]) -> [f32; N] {
+    pub fn reflectance_n<const N: usize>(
+        &self,
+        thickness_nm: f32,
+        inv_lambda: &[f32; N],
+    ) -> [f32; N] {
         let mut out = [0.0; N];
         self.reflectance_into(thickness_nm, inv_lambda, &mut out);
         out

@@ -8,10 +8,14 @@ pub const MAX_THICKNESS_NM: f64 = 1.0e6;
 /// `thickness_nm` finite and in [0, [`MAX_THICKNESS_NM`]]. Returns a message naming the problem.
 pub fn check_film_params(ior: f64, thickness_nm: f64) -> Result<(), String> {
     if !ior.is_finite() || !(1.0..=10.0).contains(&ior) {
-        return Err(format!("film index of refraction must be between 1 and 10, got {ior}"));
+        return Err(format!(
+            "film index of refraction must be between 1 and 10, got {ior}"
+        ));
     }
     if !thickness_nm.is_finite() || thickness_nm < 0.0 {
-        return Err(format!("film thickness must be a finite number >= 0 nm, got {thickness_nm}"));
+        return Err(format!(
+            "film thickness must be a finite number >= 0 nm, got {thickness_nm}"
+        ));
     }
     if thickness_nm > MAX_THICKNESS_NM {
         return Err(format!(

@@ -15,7 +15,10 @@ use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, validate};
-use crate::render::{Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode, Studio};
+use crate::render::{
+    Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode,
+    Studio,
+};
 use crate::samples::{BubbleParams, bubble};
 use crate::scene::SceneDesc;
 use crate::spectrum::WavelengthStrategy;
@@ -68,7 +71,9 @@ pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
         "um" | "µm" => Ok(1e3),
         "mm" => Ok(1e6),
         "m" => Ok(1e9),
-        _ => Err(Error::invalid(format!("thickness unit '{unit}' is not one of nm, um, mm, m"))),
+        _ => Err(Error::invalid(format!(
+            "thickness unit '{unit}' is not one of nm, um, mm, m"
+        ))),
     }
 }
 
@@ -76,8 +81,12 @@ pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
 pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
     let input = &desc.input;
     match (&input.cloud, &input.sample) {
-        (Some(_), Some(_)) => Err(Error::invalid("input: give either cloud or sample, not both")),
-        (None, None) => Err(Error::invalid("input: no particles given (set input.cloud or input.sample)")),
+        (Some(_), Some(_)) => Err(Error::invalid(
+            "input: give either cloud or sample, not both",
+        )),
+        (None, None) => Err(Error::invalid(
+            "input: no particles given (set input.cloud or input.sample)",
+        )),
         (None, Some(name)) => match name.as_str() {
             "bubble" => {
                 let mut p = BubbleParams::default();
@@ -91,11 +100,16 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
                     p.time = t;
                 }
                 if p.particles == 0 || p.particles > 50_000_000 {
-                    return Err(Error::invalid(format!("input.particles must be 1..=50000000, got {}", p.particles)));
+                    return Err(Error::invalid(format!(
+                        "input.particles must be 1..=50000000, got {}",
+                        p.particles
+                    )));
                 }
                 Ok(bubble(&p))
             }
-            other => Err(Error::invalid(format!("input.sample: unknown sample '{other}' (available: bubble)"))),
+            other => Err(Error::invalid(format!(
+                "input.sample: unknown sample '{other}' (available: bubble)"
+            ))),
         },
         (Some(path), None) => {
             let unit = desc.film.thickness_unit.as_deref().unwrap_or("nm");
@@ -116,8 +130,13 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let ior = desc.film.ior.unwrap_or(1.33);
     check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
     let primitive: Primitive = parse_enum(&desc.film.primitive, Primitive::Disk, "film.primitive")?;
-    let shading: ShadingMode = parse_enum(&desc.render.shading, ShadingMode::Lut, "render.shading")?;
-    let strategy: WavelengthStrategy = parse_enum(&desc.render.strategy, WavelengthStrategy::Jittered, "render.strategy")?;
+    let shading: ShadingMode =
+        parse_enum(&desc.render.shading, ShadingMode::Lut, "render.shading")?;
+    let strategy: WavelengthStrategy = parse_enum(
+        &desc.render.strategy,
+        WavelengthStrategy::Jittered,
+        "render.strategy",
+    )?;
     let tonemap: ToneMap = parse_enum(&desc.output.tonemap, ToneMap::Filmic, "output.tonemap")?;
     let r = &desc.render;
     let settings = RenderSettings {
@@ -129,7 +148,11 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         seed: r.seed.unwrap_or(0),
         progress,
     };
-    if settings.width == 0 || settings.height == 0 || settings.width > 32_768 || settings.height > 32_768 {
+    if settings.width == 0
+        || settings.height == 0
+        || settings.width > 32_768
+        || settings.height > 32_768
+    {
         return Err(Error::invalid(format!(
             "image size must be between 1x1 and 32768x32768, got {}x{}",
             settings.width, settings.height
@@ -150,11 +173,15 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     check_film_params(ior as f64, default_thickness as f64)
         .map_err(|m| Error::invalid(format!("film.default_thickness_nm: {m}")))?;
     if !(thickness_scale.is_finite() && thickness_scale >= 0.0) {
-        return Err(Error::invalid(format!("film.thickness_scale must be >= 0, got {thickness_scale}")));
+        return Err(Error::invalid(format!(
+            "film.thickness_scale must be >= 0, got {thickness_scale}"
+        )));
     }
     let radius_scale = desc.film.radius_scale.unwrap_or(1.0);
     if !(radius_scale.is_finite() && radius_scale > 0.0) {
-        return Err(Error::invalid(format!("film.radius_scale must be > 0, got {radius_scale}")));
+        return Err(Error::invalid(format!(
+            "film.radius_scale must be > 0, got {radius_scale}"
+        )));
     }
 
     let t0 = Instant::now();
@@ -162,20 +189,41 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let load_time = t0.elapsed();
     validate(&cloud)?;
     let t1 = Instant::now();
-    if let Some(t) = cloud.thickness_nm.as_mut() {
-        if thickness_scale != 1.0 {
-            t.iter_mut().for_each(|v| *v *= thickness_scale);
-        }
+    if let Some(t) = cloud
+        .thickness_nm
+        .as_mut()
+        .filter(|_| thickness_scale != 1.0)
+    {
+        t.iter_mut().for_each(|v| *v *= thickness_scale);
     }
-    let report = fill_missing(&mut cloud, &EstimateOptions { default_thickness_nm: default_thickness, ..EstimateOptions::default() });
+    let report = fill_missing(
+        &mut cloud,
+        &EstimateOptions {
+            default_thickness_nm: default_thickness,
+            ..EstimateOptions::default()
+        },
+    );
     notes.push(report.to_string());
     let estimate_time = t1.elapsed();
-    if let Some(t) = &cloud.thickness_nm {
-        if let Some((i, v)) = t.iter().enumerate().find(|(_, v)| check_film_params(ior as f64, **v as f64).is_err()) {
-            return Err(Error::invalid(format!("particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm")));
-        }
+    let thickness_ok = |v: &f32| check_film_params(ior as f64, *v as f64).is_ok();
+    if let Some((i, v)) = cloud
+        .thickness_nm
+        .iter()
+        .flatten()
+        .enumerate()
+        .find(|(_, v)| !thickness_ok(v))
+    {
+        return Err(Error::invalid(format!(
+            "particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm"
+        )));
     }
-    let radii: Vec<f32> = cloud.radius.as_ref().expect("filled").iter().map(|r| r * radius_scale).collect();
+    let radii: Vec<f32> = cloud
+        .radius
+        .as_ref()
+        .expect("filled")
+        .iter()
+        .map(|r| r * radius_scale)
+        .collect();
 
     let t2 = Instant::now();
     let normals = cloud.normals.as_ref().expect("filled");
@@ -200,12 +248,23 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         .zip(&radii)
         .map(|(p, r)| (*p - centre).length() + r)
         .fold(0.0f32, f32::max);
-    let camera = camera(desc, centre, reach, settings.width as f32 / settings.height as f32)?;
+    let camera = camera(
+        desc,
+        centre,
+        reach,
+        settings.width as f32 / settings.height as f32,
+    )?;
     let environment = environment(desc, base)?;
     let shader = FilmShader::new(ior, shading, wavelengths, strategy);
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {
-        scene: Scene { geometry, camera, environment, layer_skip, epsilon },
+        scene: Scene {
+            geometry,
+            camera,
+            environment,
+            layer_skip,
+            epsilon,
+        },
         shader,
         settings,
         exposure: desc.output.exposure.unwrap_or(0.0),
@@ -221,22 +280,34 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
 
 fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
     let v = Vec3::from(v);
-    if v.is_finite() { Ok(v) } else { Err(Error::invalid(format!("{key} must be finite"))) }
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::invalid(format!("{key} must be finite")))
+    }
 }
 
 fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Camera> {
     let c = &desc.camera;
     let fov = c.fov.unwrap_or(40.0);
     if !(1.0..=170.0).contains(&fov) {
-        return Err(Error::invalid(format!("camera.fov must be 1..170 degrees, got {fov}")));
+        return Err(Error::invalid(format!(
+            "camera.fov must be 1..170 degrees, got {fov}"
+        )));
     }
     let up = vec3(c.up.unwrap_or([0.0, 1.0, 0.0]), "camera.up")?;
     match c.position {
         Some(p) => {
-            let target = c.look_at.map(|t| vec3(t, "camera.look_at")).transpose()?.unwrap_or(centre);
+            let target = c
+                .look_at
+                .map(|t| vec3(t, "camera.look_at"))
+                .transpose()?
+                .unwrap_or(centre);
             let p = vec3(p, "camera.position")?;
             if (p - target).length_squared() == 0.0 {
-                return Err(Error::invalid("camera.position and camera.look_at are the same point"));
+                return Err(Error::invalid(
+                    "camera.position and camera.look_at are the same point",
+                ));
             }
             Ok(Camera::look_at(p, target, up, fov))
         }
@@ -251,18 +322,42 @@ fn environment(desc: &SceneDesc, base: &Path) -> Result<Environment> {
     let e = &desc.environment;
     let intensity = e.intensity.unwrap_or(1.0);
     if !(intensity.is_finite() && intensity >= 0.0) {
-        return Err(Error::invalid(format!("environment.intensity must be >= 0, got {intensity}")));
+        return Err(Error::invalid(format!(
+            "environment.intensity must be >= 0, got {intensity}"
+        )));
     }
-    match e.kind.as_deref().unwrap_or(if e.map.is_some() { "map" } else { "studio" }) {
-        "studio" => Ok(Environment::Studio(Studio { intensity, ..Studio::default() })),
-        "uniform" => Ok(Environment::Uniform(vec3(e.colour.unwrap_or([1.0; 3]), "environment.colour")? * intensity)),
+    match e
+        .kind
+        .as_deref()
+        .unwrap_or(if e.map.is_some() { "map" } else { "studio" })
+    {
+        "studio" => Ok(Environment::Studio(Studio {
+            intensity,
+            ..Studio::default()
+        })),
+        "uniform" => Ok(Environment::Uniform(
+            vec3(e.colour.unwrap_or([1.0; 3]), "environment.colour")? * intensity,
+        )),
         "map" => {
-            let path = e.map.as_ref().ok_or_else(|| Error::invalid("environment.kind = \"map\" needs environment.map"))?;
+            let path = e.map.as_ref().ok_or_else(|| {
+                Error::invalid("environment.kind = \"map\" needs environment.map")
+            })?;
             let (w, h, rgba) = crate::image::read_exr_rgba(&base.join(path))?;
-            let texels = rgba.into_iter().map(|p| Vec3::new(p[0], p[1], p[2])).collect();
-            Ok(Environment::Map(LatLongMap::new(w, h, texels, e.rotation.unwrap_or(0.0), intensity)))
+            let texels = rgba
+                .into_iter()
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect();
+            Ok(Environment::Map(LatLongMap::new(
+                w,
+                h,
+                texels,
+                e.rotation.unwrap_or(0.0),
+                intensity,
+            )))
         }
-        other => Err(Error::invalid(format!("environment.kind: unknown '{other}' (expected studio, uniform or map)"))),
+        other => Err(Error::invalid(format!(
+            "environment.kind: unknown '{other}' (expected studio, uniform or map)"
+        ))),
     }
 }
 
@@ -274,7 +369,10 @@ pub fn render(p: &Prepared) -> Result<RenderOutput> {
 /// Writes `out` to `path`: PNG (exposure + tone curve + sRGB) or EXR (linear RGBA plus depth,
 /// normal, thickness and hit-count layers), by extension. Written atomically.
 pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("png") => {
             let data = out.rgb.iter().map(|c| c.to_array()).collect();
@@ -282,7 +380,12 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
             save_png(path, &img, p.exposure, p.tonemap)
         }
         Some("exr") => {
-            let rgba = out.rgb.iter().zip(&out.alpha).map(|(c, a)| [c.x, c.y, c.z, *a]).collect();
+            let rgba = out
+                .rgb
+                .iter()
+                .zip(&out.alpha)
+                .map(|(c, a)| [c.x, c.y, c.z, *a])
+                .collect();
             let mut layers = ExrLayers::rgba(out.width, out.height, rgba);
             layers.depth = Some(out.depth.clone());
             layers.normal = Some(out.normal.iter().map(|n| n.to_array()).collect());
@@ -290,6 +393,9 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
             layers.hit_count = Some(out.hits.clone());
             write_exr(path, &layers)
         }
-        _ => Err(Error::invalid(format!("{}: output must end in .png or .exr", path.display()))),
+        _ => Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            path.display()
+        ))),
     }
 }

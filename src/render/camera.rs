@@ -26,23 +26,44 @@ impl Camera {
         let forward = (target - position).try_normalize().unwrap_or(Vec3::NEG_Z);
         let mut right = forward.cross(up);
         if right.length_squared() < 1e-12 {
-            right = forward.cross(if forward.x.abs() < 0.9 { Vec3::X } else { Vec3::Z });
+            right = forward.cross(if forward.x.abs() < 0.9 {
+                Vec3::X
+            } else {
+                Vec3::Z
+            });
         }
         let right = right.normalize();
         let up = right.cross(forward);
         let fov = fov_y_deg.clamp(1.0, 170.0).to_radians();
-        Camera { position, forward, right, up, tan_half_fov: (0.5 * fov).tan() }
+        Camera {
+            position,
+            forward,
+            right,
+            up,
+            tan_half_fov: (0.5 * fov).tan(),
+        }
     }
 
     /// Frames a bounding sphere (`centre`, `radius`, scene units) from direction `from` (pointing
     /// from the centre toward the camera), so the sphere fills the smaller image dimension with
     /// a small margin. Use the cloud's real bounding sphere, not its box's, or a round cloud
     /// ends up small in the frame.
-    pub fn frame(centre: Vec3, radius: f32, from: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32) -> Self {
+    pub fn frame(
+        centre: Vec3,
+        radius: f32,
+        from: Vec3,
+        up: Vec3,
+        fov_y_deg: f32,
+        aspect: f32,
+    ) -> Self {
         let radius = radius.max(1e-6);
         let half = 0.5 * fov_y_deg.clamp(1.0, 170.0).to_radians();
         // The narrower of the two half-angles decides.
-        let half_min = if aspect < 1.0 { (half.tan() * aspect).atan() } else { half };
+        let half_min = if aspect < 1.0 {
+            (half.tan() * aspect).atan()
+        } else {
+            half
+        };
         let distance = 1.05 * radius / half_min.sin();
         let dir = from.try_normalize().unwrap_or(Vec3::Z);
         Camera::look_at(centre + dir * distance, centre, up, fov_y_deg)
@@ -60,7 +81,10 @@ impl Camera {
         let px = (2.0 * sx - 1.0) * self.tan_half_fov * aspect;
         let py = (1.0 - 2.0 * sy) * self.tan_half_fov;
         let dir = (self.forward + px * self.right + py * self.up).normalize();
-        Ray { origin: self.position, dir }
+        Ray {
+            origin: self.position,
+            dir,
+        }
     }
 }
 
@@ -82,7 +106,14 @@ mod tests {
 
     #[test]
     fn framing_keeps_the_bounds_in_view() {
-        let cam = Camera::frame(Vec3::ZERO, 1.0, Vec3::new(1.0, 0.5, 2.0), Vec3::Y, 40.0, 16.0 / 9.0);
+        let cam = Camera::frame(
+            Vec3::ZERO,
+            1.0,
+            Vec3::new(1.0, 0.5, 2.0),
+            Vec3::Y,
+            40.0,
+            16.0 / 9.0,
+        );
         let to_centre = -cam.position;
         let half = 20f32.to_radians();
         let sphere_half_angle = (1.0 / to_centre.length()).asin();

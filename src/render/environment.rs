@@ -23,11 +23,23 @@ impl LatLongMap {
     /// A map from `width × height` linear RGB texels (row-major, top row = straight up), rotated
     /// by `rotation_deg` about +y and scaled by `intensity`. Non-finite or negative texels are
     /// replaced by 0 so they can never reach an image.
-    pub fn new(width: usize, height: usize, mut texels: Vec<Vec3>, rotation_deg: f32, intensity: f32) -> Self {
+    pub fn new(
+        width: usize,
+        height: usize,
+        mut texels: Vec<Vec3>,
+        rotation_deg: f32,
+        intensity: f32,
+    ) -> Self {
         for t in &mut texels {
             *t = Vec3::select(t.cmpge(Vec3::ZERO) & t.is_finite_mask(), *t, Vec3::ZERO);
         }
-        LatLongMap { width, height, texels, rotation: rotation_deg.to_radians(), intensity }
+        LatLongMap {
+            width,
+            height,
+            texels,
+            rotation: rotation_deg.to_radians(),
+            intensity,
+        }
     }
 
     fn radiance(&self, dir: Vec3) -> Vec3 {
@@ -75,7 +87,8 @@ impl SoftBox {
         let right = self.dir.cross(Vec3::Y).try_normalize().unwrap_or(Vec3::X);
         let up = right.cross(self.dir);
         let (u, v) = (dir.dot(right) / c, dir.dot(up) / c);
-        let edge = |x: f32, half: f32| smoothstep(half + self.softness, half - self.softness, x.abs());
+        let edge =
+            |x: f32, half: f32| smoothstep(half + self.softness, half - self.softness, x.abs());
         self.radiance * edge(u, self.half_size.0) * edge(v, self.half_size.1)
     }
 }
@@ -132,7 +145,11 @@ impl Default for Studio {
             },
         ];
         Studio {
-            backdrop: [Vec3::new(0.010, 0.010, 0.012), Vec3::new(0.030, 0.032, 0.040), Vec3::new(0.060, 0.065, 0.080)],
+            backdrop: [
+                Vec3::new(0.010, 0.010, 0.012),
+                Vec3::new(0.030, 0.032, 0.040),
+                Vec3::new(0.060, 0.065, 0.080),
+            ],
             boxes,
             intensity: 1.0,
         }
@@ -201,9 +218,17 @@ mod tests {
         let s = Environment::Studio(Studio::default());
         let key = Vec3::new(-0.55, 0.55, 0.62).normalize();
         assert!(s.radiance(key).min_element() > 4.0);
-        assert!(s.radiance(Vec3::new(0.0, -0.2, -1.0).normalize()).max_element() < 0.1);
+        assert!(
+            s.radiance(Vec3::new(0.0, -0.2, -1.0).normalize())
+                .max_element()
+                < 0.1
+        );
         for i in 0..1000 {
-            let d = Vec3::new((i as f32 * 0.37).sin(), (i as f32 * 0.11).cos(), (i as f32 * 0.73).sin());
+            let d = Vec3::new(
+                (i as f32 * 0.37).sin(),
+                (i as f32 * 0.11).cos(),
+                (i as f32 * 0.73).sin(),
+            );
             let r = s.radiance(d.normalize());
             assert!(r.is_finite() && r.min_element() >= 0.0);
         }

@@ -53,7 +53,15 @@ pub struct RenderSettings {
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        RenderSettings { width: 960, height: 540, spp: 4, max_depth: 12, min_weight: 1e-3, seed: 0, progress: false }
+        RenderSettings {
+            width: 960,
+            height: 540,
+            spp: 4,
+            max_depth: 12,
+            min_weight: 1e-3,
+            seed: 0,
+            progress: false,
+        }
     }
 }
 
@@ -109,44 +117,80 @@ impl Tracer<'_> {
 
     /// Radiance leaving a film crossing `hit` back along `ray`: the reflected and the
     /// transmitted branch, weighted by R and T = 1 − R.
-    fn shade(&self, ray: &Ray, hit: &SurfaceHit, depth: u32, weight: Vec3, st: &mut PathState) -> Vec3 {
+    fn shade(
+        &self,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        depth: u32,
+        weight: Vec3,
+        st: &mut PathState,
+    ) -> Vec3 {
         let cos_signed = ray.dir.dot(hit.normal);
         let cos_i = cos_signed.abs().min(1.0);
-        let r = self.shader.reflectance(&st.shading, cos_i, hit.thickness_nm);
+        let r = self
+            .shader
+            .reflectance(&st.shading, cos_i, hit.thickness_nm);
         let t = Vec3::ONE - r;
         // Transmitted: the same line, beyond the film layer.
-        let lt = self.trace(ray, hit.t_exit + self.scene.epsilon, depth + 1, weight * t, st);
+        let lt = self.trace(
+            ray,
+            hit.t_exit + self.scene.epsilon,
+            depth + 1,
+            weight * t,
+            st,
+        );
         // Reflected: mirror about the normal that faces the incoming ray.
-        let n = if cos_signed < 0.0 { hit.normal } else { -hit.normal };
+        let n = if cos_signed < 0.0 {
+            hit.normal
+        } else {
+            -hit.normal
+        };
         let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
         let skip = (self.scene.layer_skip / cos_i.max(0.1)).max(self.scene.epsilon);
-        let reflected = Ray { origin: hit.position, dir };
+        let reflected = Ray {
+            origin: hit.position,
+            dir,
+        };
         let lr = self.trace(&reflected, skip, depth + 1, weight * r, st);
         r * lr + t * lt
     }
 }
 
 /// Renders `scene` with `shader` and `settings`. Deterministic for a given seed.
-pub fn render(scene: &Scene, shader: &FilmShader, settings: &RenderSettings) -> Result<RenderOutput> {
+pub fn render(
+    scene: &Scene,
+    shader: &FilmShader,
+    settings: &RenderSettings,
+) -> Result<RenderOutput> {
     let (w, h) = (settings.width, settings.height);
     if w == 0 || h == 0 {
-        return Err(Error::invalid(format!("image size must be at least 1x1, got {w}x{h}")));
+        return Err(Error::invalid(format!(
+            "image size must be at least 1x1, got {w}x{h}"
+        )));
     }
     if settings.spp == 0 {
         return Err(Error::invalid("samples per pixel must be at least 1"));
     }
     let aspect = w as f32 / h as f32;
-    let tracer = Tracer { scene, shader, settings };
+    let tracer = Tracer {
+        scene,
+        shader,
+        settings,
+    };
     let tiles_x = w.div_ceil(TILE);
-    let tiles: Vec<(usize, usize)> =
-        (0..h.div_ceil(TILE)).flat_map(|ty| (0..tiles_x).map(move |tx| (tx, ty))).collect();
+    let tiles: Vec<(usize, usize)> = (0..h.div_ceil(TILE))
+        .flat_map(|ty| (0..tiles_x).map(move |tx| (tx, ty)))
+        .collect();
     let bar = progress_bar(settings.progress, tiles.len() as u64);
     let results: Vec<(usize, usize, Vec<Pixel>, u64)> = tiles
         .par_iter()
         .map(|&(tx, ty)| {
             let (x0, y0) = (tx * TILE, ty * TILE);
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-            let mut st = PathState { shading: SampleShading::default(), rays: 0 };
+            let mut st = PathState {
+                shading: SampleShading::default(),
+                rays: 0,
+            };
             let mut u = Vec::with_capacity(shader.randoms_per_sample());
             let mut pixels = Vec::with_capacity((x1 - x0) * (y1 - y0));
             for y in y0..y1 {
@@ -196,7 +240,14 @@ struct Pixel {
     hits: f32,
 }
 
-fn render_pixel(tr: &Tracer, x: usize, y: usize, aspect: f32, st: &mut PathState, u: &mut Vec<f32>) -> Pixel {
+fn render_pixel(
+    tr: &Tracer,
+    x: usize,
+    y: usize,
+    aspect: f32,
+    st: &mut PathState,
+    u: &mut Vec<f32>,
+) -> Pixel {
     let s = tr.settings;
     let (w, h) = (s.width, s.height);
     let mut rng = Pcg32::new(s.seed, mix64((y * w + x) as u64));
@@ -211,14 +262,21 @@ fn render_pixel(tr: &Tracer, x: usize, y: usize, aspect: f32, st: &mut PathState
             (0.5, 0.5)
         } else if square {
             let (a, b) = (i % strata, i / strata);
-            ((a as f32 + rng.next_f32()) / strata as f32, (b as f32 + rng.next_f32()) / strata as f32)
+            (
+                (a as f32 + rng.next_f32()) / strata as f32,
+                (b as f32 + rng.next_f32()) / strata as f32,
+            )
         } else {
             (rng.next_f32(), rng.next_f32())
         };
         u.clear();
         u.extend((0..tr.shader.randoms_per_sample()).map(|_| rng.next_f32()));
         tr.shader.begin_sample(&mut st.shading, u);
-        let ray = tr.scene.camera.ray((x as f32 + jx) / w as f32, (y as f32 + jy) / h as f32, aspect);
+        let ray = tr.scene.camera.ray(
+            (x as f32 + jx) / w as f32,
+            (y as f32 + jy) / h as f32,
+            aspect,
+        );
         // The first crossing feeds the auxiliary buffers, then the ray tree.
         st.rays += 1;
         let c = match tr.scene.geometry.intersect(&ray, 0.0, f32::INFINITY) {
@@ -256,9 +314,11 @@ fn progress_bar(enabled: bool, len: u64) -> indicatif::ProgressBar {
     }
     let bar = indicatif::ProgressBar::new(len);
     bar.set_style(
-        indicatif::ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent}% ({elapsed} elapsed, ETA {eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
+        indicatif::ProgressStyle::with_template(
+            "{spinner} rendering [{bar:40}] {percent}% ({elapsed} elapsed, ETA {eta})",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
     bar
 }

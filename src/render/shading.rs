@@ -58,9 +58,19 @@ pub struct SampleShading {
 impl FilmShader {
     /// A shader for film index `ior` in `mode`; `wavelengths` and `strategy` apply to
     /// [`ShadingMode::Rgb`]. Building the LUT costs ~0.3 s on 2 cores.
-    pub fn new(ior: f32, mode: ShadingMode, wavelengths: usize, strategy: WavelengthStrategy) -> Self {
+    pub fn new(
+        ior: f32,
+        mode: ShadingMode,
+        wavelengths: usize,
+        strategy: WavelengthStrategy,
+    ) -> Self {
         let lut = (mode == ShadingMode::Lut).then(|| FilmLut::new(ior));
-        FilmShader { ior, lut, wavelengths, strategy }
+        FilmShader {
+            ior,
+            lut,
+            wavelengths,
+            strategy,
+        }
     }
 
     /// The film's index of refraction.
@@ -71,7 +81,12 @@ impl FilmShader {
     /// Prepares `state` for a new camera sample; `u` supplies one random number per wavelength.
     pub fn begin_sample(&self, state: &mut SampleShading, u: &[f32]) {
         if self.lut.is_none() {
-            let wl = SampledWavelengths::sample(WavelengthRange::VISIBLE, self.wavelengths, self.strategy, u);
+            let wl = SampledWavelengths::sample(
+                WavelengthRange::VISIBLE,
+                self.wavelengths,
+                self.strategy,
+                u,
+            );
             match self.strategy {
                 WavelengthStrategy::Stratified => state.weights.set(wl.as_slice()),
                 _ => state.weights.set_unbiased(wl.as_slice()),
@@ -81,7 +96,11 @@ impl FilmShader {
 
     /// Number of random numbers [`begin_sample`](Self::begin_sample) uses.
     pub fn randoms_per_sample(&self) -> usize {
-        if self.lut.is_some() { 0 } else { self.wavelengths }
+        if self.lut.is_some() {
+            0
+        } else {
+            self.wavelengths
+        }
     }
 
     /// Reflected RGB fraction of a film of `thickness_nm` met at `|cos θ|` = `cos_i`; the

@@ -139,7 +139,9 @@ impl SceneDesc {
     pub fn from_toml(text: &str, name: &str) -> crate::Result<Self> {
         toml::from_str(text).map_err(|e| {
             let msg = e.message().to_string();
-            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
             crate::Error::Format {
                 path: name.into(),
                 format: "scene TOML",
@@ -165,10 +167,19 @@ mod tests {
         .unwrap();
         assert_eq!(s.film.ior, Some(1.4));
         assert_eq!(s.render.spp, Some(2));
-        let e = SceneDesc::from_toml("[input]\nsample = \"bubble\"\n\n[render]\nspps = 2\n", "b.toml").unwrap_err();
+        let e = SceneDesc::from_toml(
+            "[input]\nsample = \"bubble\"\n\n[render]\nspps = 2\n",
+            "b.toml",
+        )
+        .unwrap_err();
         let m = e.to_string();
-        assert!(m.contains("b.toml") && m.contains("line 5") && m.contains("spps"), "{m}");
-        let e = SceneDesc::from_toml("[film]\nior = \"x\"\n", "c.toml").unwrap_err().to_string();
+        assert!(
+            m.contains("b.toml") && m.contains("line 5") && m.contains("spps"),
+            "{m}"
+        );
+        let e = SceneDesc::from_toml("[film]\nior = \"x\"\n", "c.toml")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 2"), "{e}");
     }
 }

@@ -26,7 +26,10 @@ fn parse_rows(csv: &str, columns: usize) -> Vec<Vec<f64>> {
         .skip(1)
         .filter(|l| !l.trim().is_empty())
         .map(|l| {
-            let row: Vec<f64> = l.split(',').map(|v| v.trim().parse().expect("bundled CIE table is valid")).collect();
+            let row: Vec<f64> = l
+                .split(',')
+                .map(|v| v.trim().parse().expect("bundled CIE table is valid"))
+                .collect();
             assert_eq!(row.len(), columns, "bundled CIE table row width");
             row
         })
@@ -37,8 +40,14 @@ fn parse_rows(csv: &str, columns: usize) -> Vec<Vec<f64>> {
 pub fn tables() -> &'static CieTables {
     static TABLES: OnceLock<CieTables> = OnceLock::new();
     TABLES.get_or_init(|| {
-        let cmf = parse_rows(CMF_CSV, 4).into_iter().map(|r| [r[1], r[2], r[3]]).collect();
-        let d65 = parse_rows(D65_CSV, 2).into_iter().map(|r| (r[0], r[1])).collect();
+        let cmf = parse_rows(CMF_CSV, 4)
+            .into_iter()
+            .map(|r| [r[1], r[2], r[3]])
+            .collect();
+        let d65 = parse_rows(D65_CSV, 2)
+            .into_iter()
+            .map(|r| (r[0], r[1]))
+            .collect();
         CieTables { cmf, d65 }
     })
 }

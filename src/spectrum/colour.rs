@@ -16,12 +16,20 @@ pub fn xyz_to_linear_srgb(xyz: [f64; 3]) -> [f64; 3] {
 /// sRGB encoding (the piecewise gamma curve) of a linear value; input clamped to [0, 1].
 pub fn linear_to_srgb(v: f32) -> f32 {
     let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
-    if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// sRGB decoding of an encoded value in [0, 1] to linear.
 pub fn srgb_to_linear(v: f32) -> f32 {
-    if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 #[cfg(test)]

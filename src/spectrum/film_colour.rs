@@ -41,7 +41,13 @@ pub fn film_rgb_reference(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: &[
             white[c] += w[c];
         }
     }
-    [0, 1, 2].map(|c| if white[c] != 0.0 { sum[c] / white[c] } else { 0.0 })
+    [0, 1, 2].map(|c| {
+        if white[c] != 0.0 {
+            sum[c] / white[c]
+        } else {
+            0.0
+        }
+    })
 }
 
 /// Colour weights for one set of wavelengths, reusable across many hits (build once per camera
@@ -94,7 +100,11 @@ impl SpectralWeights {
         let count = lambda_nm.len() as f64;
         for c in 0..3 {
             let exact = full[c] * count;
-            let norm = if white_balance && white[c] > 1e-6 * exact { white[c] } else { exact };
+            let norm = if white_balance && white[c] > 1e-6 * exact {
+                white[c]
+            } else {
+                exact
+            };
             for w in &mut self.weight {
                 w[c] = (w[c] as f64 / norm) as f32;
             }
@@ -117,7 +127,11 @@ impl SpectralWeights {
     pub fn film_reflectance_rgb(&self, fresnel: &FilmFresnel, thickness_nm: f32) -> [f32; 3] {
         let mut rgb = [0.0f32; 3];
         let mut buf = [0.0f32; MAX_WAVELENGTHS];
-        for (il, w) in self.inv_lambda.chunks(MAX_WAVELENGTHS).zip(self.weight.chunks(MAX_WAVELENGTHS)) {
+        for (il, w) in self
+            .inv_lambda
+            .chunks(MAX_WAVELENGTHS)
+            .zip(self.weight.chunks(MAX_WAVELENGTHS))
+        {
             let r = &mut buf[..il.len()];
             fresnel.reflectance_into(thickness_nm, il, r);
             for (ri, wi) in r.iter().zip(w) {
@@ -202,8 +216,15 @@ impl FilmLut {
                 weights.film_reflectance_rgb(&fresnel, v * v * Self::MAX_THICKNESS_NM)
             })
             .collect();
-        let incoherent = (0..n_c).map(|ic| FilmFresnel::new(cos_at(ic), ior).incoherent_reflectance()).collect();
-        FilmLut { ior, rgb, incoherent, n_h }
+        let incoherent = (0..n_c)
+            .map(|ic| FilmFresnel::new(cos_at(ic), ior).incoherent_reflectance())
+            .collect();
+        FilmLut {
+            ior,
+            rgb,
+            incoherent,
+            n_h,
+        }
     }
 
     /// The film index the table was built for.
@@ -223,7 +244,8 @@ impl FilmLut {
             let g = self.incoherent[ic] + tc * (self.incoherent[ic + 1] - self.incoherent[ic]);
             return [g; 3];
         }
-        let fh = (thickness_nm.max(0.0) / Self::MAX_THICKNESS_NM).sqrt() * Self::THICKNESS_STEPS as f32;
+        let fh =
+            (thickness_nm.max(0.0) / Self::MAX_THICKNESS_NM).sqrt() * Self::THICKNESS_STEPS as f32;
         let ih = (fh as usize).min(self.n_h - 2);
         let th = fh - ih as f32;
         let at = |c: usize, h: usize| self.rgb[c * self.n_h + h];

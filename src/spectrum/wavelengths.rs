@@ -28,7 +28,10 @@ pub struct WavelengthRange {
 
 impl WavelengthRange {
     /// The visible range covered by the CIE 1931 tables, 360–830 nm.
-    pub const VISIBLE: WavelengthRange = WavelengthRange { min_nm: 360.0, max_nm: 830.0 };
+    pub const VISIBLE: WavelengthRange = WavelengthRange {
+        min_nm: 360.0,
+        max_nm: 830.0,
+    };
 
     /// Width of the range, nm.
     pub fn width(&self) -> f32 {
@@ -55,7 +58,9 @@ impl FromStr for WavelengthStrategy {
             "stratified" => Ok(Self::Stratified),
             "jittered" => Ok(Self::Jittered),
             "hero" => Ok(Self::Hero),
-            _ => Err(format!("unknown wavelength strategy '{s}' (expected stratified, jittered or hero)")),
+            _ => Err(format!(
+                "unknown wavelength strategy '{s}' (expected stratified, jittered or hero)"
+            )),
         }
     }
 }
@@ -82,7 +87,12 @@ impl SampledWavelengths {
     /// Chooses `n` wavelengths (1..=[`MAX_WAVELENGTHS`], clamped) in `range` with `strategy`.
     /// `u` supplies the randomness: one value in [0, 1) per wavelength (Jittered uses `u[i]`,
     /// Hero uses `u[0]`, Stratified none); missing values count as 0.5.
-    pub fn sample(range: WavelengthRange, n: usize, strategy: WavelengthStrategy, u: &[f32]) -> Self {
+    pub fn sample(
+        range: WavelengthRange,
+        n: usize,
+        strategy: WavelengthStrategy,
+        u: &[f32],
+    ) -> Self {
         let n = n.clamp(1, MAX_WAVELENGTHS);
         let step = range.width() / n as f32;
         let get = |i: usize| u.get(i).copied().unwrap_or(0.5);
@@ -133,10 +143,17 @@ mod tests {
     fn every_strategy_puts_one_wavelength_in_each_stratum() {
         let r = WavelengthRange::VISIBLE;
         let u: Vec<f32> = (0..16).map(|i| (i as f32 * 0.618_034).fract()).collect();
-        for s in [WavelengthStrategy::Stratified, WavelengthStrategy::Jittered, WavelengthStrategy::Hero] {
+        for s in [
+            WavelengthStrategy::Stratified,
+            WavelengthStrategy::Jittered,
+            WavelengthStrategy::Hero,
+        ] {
             let wl = SampledWavelengths::sample(r, 16, s, &u);
-            let mut strata: Vec<usize> =
-                wl.as_slice().iter().map(|&l| ((l - r.min_nm) / r.width() * 16.0) as usize).collect();
+            let mut strata: Vec<usize> = wl
+                .as_slice()
+                .iter()
+                .map(|&l| ((l - r.min_nm) / r.width() * 16.0) as usize)
+                .collect();
             strata.sort();
             assert_eq!(strata, (0..16).collect::<Vec<_>>(), "{s}");
         }
