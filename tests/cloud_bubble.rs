@@ -61,7 +61,7 @@ fn thickness_range_and_drainage() {
             .positions
             .iter()
             .zip(h)
-            .filter(|(x, _)| (zlo..zhi).contains(&(x.z / p.radius)))
+            .filter(|(x, _)| (zlo..zhi).contains(&(x.y / p.radius)))
             .fold((0.0f64, 0usize), |(s, n), (_, &t)| (s + t as f64, n + 1));
         s / n as f64
     };
@@ -74,7 +74,7 @@ fn thickness_range_and_drainage() {
         .positions
         .iter()
         .zip(h)
-        .filter(|(x, t)| x.z > 0.7 * p.radius && **t < 40.0)
+        .filter(|(x, t)| x.y > 0.7 * p.radius && **t < 40.0)
         .count();
     assert!(black > 0);
 }
@@ -90,7 +90,7 @@ fn swirls_break_the_horizontal_layering() {
         .positions
         .iter()
         .zip(h)
-        .filter(|(x, _)| (-0.05..0.05).contains(&(x.z / p.radius)))
+        .filter(|(x, _)| (-0.05..0.05).contains(&(x.y / p.radius)))
         .map(|(_, &t)| t as f64)
         .collect();
     let mean = band.iter().sum::<f64>() / band.len() as f64;

@@ -11,7 +11,7 @@
 //! traversal is run; on smooth films this is rare.
 
 use super::blend::{LayerSum, kernel};
-use super::primitives::{intersect_disk, intersect_sphere};
+use super::primitives::{intersect_disk, intersect_sphere, sphere_roots};
 use super::{Ray, SplatGeometry, SurfaceHit};
 
 /// Candidate buffer of the single-pass layer search (entries of 12 bytes on the stack).
@@ -161,9 +161,12 @@ impl SplatGeometry {
         let (slot, t) = best?;
         let p = &self.spheres[slot as usize];
         let position = ray.at(t);
+        // A sphere is one film crossing: the ray leaves it at the far root (for a ray that
+        // starts inside, the hit is already that root).
+        let t_exit = sphere_roots(ray, p.center, p.radius).map_or(t, |(_, far)| far.max(t));
         Some(SurfaceHit {
             t,
-            t_exit: t,
+            t_exit,
             position,
             normal: (position - p.center).normalize_or_zero(),
             thickness_nm: p.thickness,

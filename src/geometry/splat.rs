@@ -13,7 +13,8 @@ pub struct SurfaceHit {
     /// Distance along the ray to the (blended) film crossing.
     pub t: f32,
     /// Continue rays from just beyond this distance: the farthest splat hit of the blended layer
-    /// (`== t` for spheres and unblended hits).
+    /// for disks (`== t` unblended); for spheres the far side of the sphere, since a sphere
+    /// is drawn as one film crossing.
     pub t_exit: f32,
     /// The crossing point, `ray.at(t)`.
     pub position: Vec3,

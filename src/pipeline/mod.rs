@@ -196,6 +196,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     {
         t.iter_mut().for_each(|v| *v *= thickness_scale);
     }
+    let had_radius = cloud.radius.is_some();
     let report = fill_missing(
         &mut cloud,
         &EstimateOptions {
@@ -217,12 +218,20 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             "particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm"
         )));
     }
+    // Estimated radii make disks overlap into a closed film; spheres drawn as particles get half
+    // of that, so each particle stays visible as its own ball.
+    let estimated_scale = if !had_radius && primitive == Primitive::Sphere {
+        0.5
+    } else {
+        1.0
+    };
+    let scale = radius_scale * estimated_scale;
     let radii: Vec<f32> = cloud
         .radius
         .as_ref()
         .expect("filled")
         .iter()
-        .map(|r| r * radius_scale)
+        .map(|r| r * scale)
         .collect();
 
     let t2 = Instant::now();

@@ -73,7 +73,10 @@ pub fn median_spacing(positions: &[Vec3]) -> f32 {
 /// with tangential jitter up to ±0.3·d per axis (scale 0.5 already leaves holes at ±0.2·d).
 /// Larger radii would blur curvature and thickness detail. Uniformly random (Poisson-like)
 /// samplings have larger gaps and need `scale` ≈ 1.0. Particles with no neighbour get
-/// `scale ×` the median dₖ (or `scale` for a lone particle). Cost: O(n·k·log n), parallel.
+/// `scale ×` the median dₖ (or `scale` for a lone particle). Isolated particles (spray, sparse
+/// regions) are capped at [`MAX_RADIUS_FACTOR`] × the median radius: a lone droplet stays a
+/// droplet-sized splat instead of ballooning to the distance of its far neighbours, so sparse
+/// data is shown honestly. Cost: O(n·k·log n), parallel.
 pub fn estimate_radii(positions: &[Vec3], k: usize, scale: f32) -> Vec<f32> {
     let table = KnnTable::build(positions, k.max(1));
     radii_from_table(&table, k.max(1), scale)
@@ -86,10 +89,15 @@ pub(crate) fn radii_from_table(table: &KnnTable, k: usize, scale: f32) -> Vec<f3
         .map(|i| table.kth_distance(i, k).filter(|d| d.is_finite()))
         .collect();
     let fallback = median_positive(dk.iter().flatten().copied()).unwrap_or(1.0);
+    let cap = MAX_RADIUS_FACTOR * fallback;
     dk.into_iter()
-        .map(|d| scale * d.filter(|d| *d > 0.0).unwrap_or(fallback))
+        .map(|d| scale * d.filter(|d| *d > 0.0).unwrap_or(fallback).min(cap))
         .collect()
 }
+
+/// Largest estimated radius, as a multiple of the median estimated radius (see
+/// [`estimate_radii`]).
+pub const MAX_RADIUS_FACTOR: f32 = 2.0;
 
 /// Unit normals with their orientation and how many were degenerate.
 #[derive(Debug, Clone)]

@@ -118,9 +118,9 @@ impl Default for Studio {
             // interference colours show everywhere, as in bubble photographs.
             SoftBox {
                 dir: Vec3::new(0.25, 0.35, 1.0).normalize(),
-                half_size: (1.4, 1.0),
-                softness: 0.35,
-                radiance: Vec3::splat(1.6),
+                half_size: (2.2, 1.6),
+                softness: 0.9,
+                radiance: Vec3::splat(1.4),
             },
             // Key: bright, upper left: a crisp highlight.
             SoftBox {

@@ -3,7 +3,7 @@
 //!
 //! # Thickness model (nm)
 //! 1. **Drainage.** With s = (1 − z)/2 the normalised distance from the apex (z up, gravity
-//!    −z), h_d(s) = h_top + (h_bottom − h_top)·s^0.75: steepest near the top like Mysels'
+//!    −z, while the field is built; the output is turned so that +y is up, like the scenes), h_d(s) = h_top + (h_bottom − h_top)·s^0.75: steepest near the top like Mysels'
 //!    rigid-surface drainage law h ∝ √(x/t), softened so that the vivid low orders (< 400 nm)
 //!    cover the upper cap; thin (≈ 60 nm) at the top, ≈ 1100 nm at the bottom, slowly thinning as
 //!    √(τ/(τ + time)) with τ = 60 s. Eight low-frequency waves (a few %, at most ±16 %) break
@@ -239,13 +239,16 @@ pub fn bubble(p: &BubbleParams) -> PointCloud {
         .par_iter()
         .map(|q| field.thickness(*q, time, &steps) as f32)
         .collect();
+    // The field is built with z up; the renderer's scenes are y up (as SPH simulators write
+    // them): turn z into y, y into −z.
+    let y_up = |q: &DVec3| DVec3::new(q.x, q.z, -q.y);
     let positions = unit
         .iter()
-        .map(|q| (*q * p.radius as f64).as_vec3())
+        .map(|q| (y_up(q) * p.radius as f64).as_vec3())
         .collect();
     let normals = unit
         .iter()
-        .map(|q| q.as_vec3().normalize())
+        .map(|q| y_up(q).as_vec3().normalize())
         .collect::<Vec<Vec3>>();
     let splat = 0.9 * fibonacci_spacing(n, p.radius);
     PointCloud {
