@@ -187,7 +187,10 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let t0 = Instant::now();
     let mut cloud = load_cloud(desc, base)?;
     let load_time = t0.elapsed();
-    validate(&cloud)?;
+    validate(&cloud).map_err(|e| match &desc.input.cloud {
+        Some(path) => Error::invalid(format!("{}: {e}", base.join(path).display())),
+        None => e,
+    })?;
     let t1 = Instant::now();
     if let Some(t) = cloud
         .thickness_nm
