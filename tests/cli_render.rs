@@ -178,3 +178,38 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         assert!(!out_png.exists(), "{full:?} left an output file");
     }
 }
+
+#[test]
+fn a_latlong_environment_map_lights_the_scene() {
+    // A uniform grey panorama: background pixels are the map's value, and a film in it keeps
+    // energy (film pixels equal the same grey).
+    let env = tmp("grey.exr");
+    let layers = filmsplat::image::ExrLayers::rgba(8, 4, vec![[0.25, 0.5, 0.75, 1.0]; 32]);
+    filmsplat::image::write_exr(&env, &layers).unwrap();
+    let out = tmp("env-render.exr");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &data("splishsplash_sphere_shell.ply"),
+        "-o",
+        out.to_str().unwrap(),
+        "--env",
+        env.to_str().unwrap(),
+        "--env-intensity",
+        "2",
+        "--size",
+        "32x24",
+        "--spp",
+        "1",
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let img = filmsplat::image::read_exr(&out).unwrap();
+    let mut film = 0;
+    for p in &img.rgba {
+        for (c, want) in [0.5, 1.0, 1.5].iter().enumerate() {
+            assert!((p[c] - want).abs() < 2e-3, "{p:?}");
+        }
+        film += (p[3] > 0.0) as usize;
+    }
+    assert!(film > 100, "the shell should be in view ({film})");
+}
