@@ -65,6 +65,10 @@ pub struct RenderArgs {
     /// Factor on all splat radii (estimated from spacing or read from the file).
     #[arg(long)]
     radius_scale: Option<f32>,
+    /// Do not blend overlapping disks into one film crossing (for comparison: the film is then
+    /// applied once per disk and colours jump at splat rims).
+    #[arg(long)]
+    no_blend: bool,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
     #[arg(long)]
     env: Option<String>,
@@ -150,6 +154,9 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.camera.fov, a.fov);
     set!(d.output.exposure, a.exposure);
     set!(d.output.tonemap, a.tonemap);
+    if a.no_blend {
+        d.film.blend = Some(false);
+    }
     if let Some((w, h)) = a.size {
         d.render.width = Some(w);
         d.render.height = Some(h);

@@ -10,7 +10,7 @@
 //! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
 //! ```
 
-use crate::geometry::{Primitive, SplatGeometry};
+use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
@@ -240,7 +240,10 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let t2 = Instant::now();
     let normals = cloud.normals.as_ref().expect("filled");
     let thickness = cloud.thickness_nm.as_ref().expect("filled");
-    let geometry = SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
+    let mut geometry = SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
+    if desc.film.blend == Some(false) {
+        geometry.set_layer_blend(LayerBlend::NONE);
+    }
     let build_time = t2.elapsed();
 
     let bounds = geometry.bounds();

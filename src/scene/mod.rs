@@ -63,6 +63,9 @@ pub struct FilmDesc {
     pub primitive: Option<String>,
     /// Factor on every splat radius (estimated or from the file), default 1.
     pub radius_scale: Option<f32>,
+    /// Blend overlapping disks of one film layer into one crossing (default true). Off shows
+    /// what unblended splats look like: the film applied once per disk, colours jumping at rims.
+    pub blend: Option<bool>,
 }
 
 /// `[camera]`: either explicit (`position` and `look_at`) or auto-framed from `from`.
