@@ -8,7 +8,9 @@
 
 use filmsplat::geometry::{Primitive, SplatGeometry};
 use filmsplat::io::{ReadOptions, read_cloud, write_ply};
-use filmsplat::render::{Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, Studio, render};
+use filmsplat::render::{
+    Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, Studio, render,
+};
 use filmsplat::samples::{BubbleParams, bubble};
 use filmsplat::spectrum::WavelengthStrategy;
 use glam::Vec3;
@@ -16,7 +18,10 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
-    std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+    std::env::var(key)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
 }
 
 fn main() {
@@ -24,11 +29,20 @@ fn main() {
     let n: usize = env_or("FILMSPLAT_BENCH_PARTICLES", 1_000_000);
     let spp: u32 = env_or("FILMSPLAT_BENCH_SPP", 16);
     let size: String = env_or("FILMSPLAT_BENCH_SIZE", "1280x720".to_string());
-    let (w, h) = size.split_once('x').map(|(a, b)| (a.parse().unwrap(), b.parse().unwrap())).unwrap();
-    println!("bubble, {n} particles, {w}x{h}, {spp} spp, {} threads", rayon::current_num_threads());
+    let (w, h) = size
+        .split_once('x')
+        .map(|(a, b)| (a.parse().unwrap(), b.parse().unwrap()))
+        .unwrap();
+    println!(
+        "bubble, {n} particles, {w}x{h}, {spp} spp, {} threads",
+        rayon::current_num_threads()
+    );
 
     let t = Instant::now();
-    let cloud = bubble(&BubbleParams { particles: n, ..BubbleParams::default() });
+    let cloud = bubble(&BubbleParams {
+        particles: n,
+        ..BubbleParams::default()
+    });
     let generate = t.elapsed().as_secs_f64();
     let path = std::env::temp_dir().join(format!("filmsplat-bench-{n}.ply"));
     write_ply(&path, &cloud).unwrap();
@@ -37,15 +51,27 @@ fn main() {
     let cloud = read_cloud(&path, &ReadOptions::default()).unwrap();
     let load = t.elapsed().as_secs_f64();
     let _ = std::fs::remove_file(&path);
-    println!("generate {generate:.2} s; PLY {:.1} MB loads in {load:.3} s ({:.0} MB/s)", bytes as f64 / 1e6, bytes as f64 / 1e6 / load);
+    println!(
+        "generate {generate:.2} s; PLY {:.1} MB loads in {load:.3} s ({:.0} MB/s)",
+        bytes as f64 / 1e6,
+        bytes as f64 / 1e6 / load
+    );
 
-    println!("\n| primitive | tree build | memory/particle | primary rays | render {w}×{h}, {spp} spp | rays in render |");
+    println!(
+        "\n| primitive | tree build | memory/particle | primary rays | render {w}×{h}, {spp} spp | rays in render |"
+    );
     println!("|---|---|---|---|---|---|");
     let shader = FilmShader::new(1.33, ShadingMode::Lut, 16, WavelengthStrategy::Jittered);
     for prim in [Primitive::Disk, Primitive::Sphere] {
         let radii: Vec<f32> = match prim {
             Primitive::Disk => cloud.radius.clone().unwrap(),
-            Primitive::Sphere => cloud.radius.as_ref().unwrap().iter().map(|r| 0.5 * r).collect(),
+            Primitive::Sphere => cloud
+                .radius
+                .as_ref()
+                .unwrap()
+                .iter()
+                .map(|r| 0.5 * r)
+                .collect(),
         };
         let t = Instant::now();
         let geometry = SplatGeometry::build(
@@ -58,7 +84,14 @@ fn main() {
         .unwrap();
         let build = t.elapsed().as_secs_f64();
         let bytes_per = geometry.memory_bytes() as f64 / n as f64;
-        let camera = Camera::frame(Vec3::ZERO, 1.0, Vec3::new(0.35, 0.3, 1.0), Vec3::Y, 40.0, w as f32 / h as f32);
+        let camera = Camera::frame(
+            Vec3::ZERO,
+            1.0,
+            Vec3::new(0.35, 0.3, 1.0),
+            Vec3::Y,
+            40.0,
+            w as f32 / h as f32,
+        );
         // Primary rays: one closest-hit query per pixel centre, all threads.
         let aspect = w as f32 / h as f32;
         let t = Instant::now();
@@ -67,15 +100,30 @@ fn main() {
             .map(|y| {
                 (0..w)
                     .filter(|&x| {
-                        let ray = camera.ray((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32, aspect);
+                        let ray = camera.ray(
+                            (x as f32 + 0.5) / w as f32,
+                            (y as f32 + 0.5) / h as f32,
+                            aspect,
+                        );
                         geometry.intersect(&ray, 0.0, f32::INFINITY).is_some()
                     })
                     .count()
             })
             .sum();
         let primary = (w * h) as f64 / t.elapsed().as_secs_f64() / 1e6;
-        let scene = Scene { geometry, camera, environment: Environment::Studio(Studio::default()), layer_skip: 0.5 * radii[0], epsilon: 1e-5 };
-        let settings = RenderSettings { width: w, height: h, spp, ..RenderSettings::default() };
+        let scene = Scene {
+            geometry,
+            camera,
+            environment: Environment::Studio(Studio::default()),
+            layer_skip: 0.5 * radii[0],
+            epsilon: 1e-5,
+        };
+        let settings = RenderSettings {
+            width: w,
+            height: h,
+            spp,
+            ..RenderSettings::default()
+        };
         let t = Instant::now();
         let out = render(&scene, &shader, &settings).unwrap();
         let secs = t.elapsed().as_secs_f64();

@@ -5,7 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn filmsplat(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_filmsplat")).args(args).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_filmsplat"))
+        .args(args)
+        .output()
+        .unwrap();
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -33,7 +36,14 @@ fn png_size(path: &Path) -> (u32, u32) {
 #[test]
 fn sample_then_render_as_disks_and_spheres_and_exr() {
     let ply = tmp("bubble.ply");
-    let (code, out, err) = filmsplat(&["sample", "bubble", "-o", ply.to_str().unwrap(), "--particles", "3000"]);
+    let (code, out, err) = filmsplat(&[
+        "sample",
+        "bubble",
+        "-o",
+        ply.to_str().unwrap(),
+        "--particles",
+        "3000",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("3000 particles"));
     let (code, out, err) = filmsplat(&["info", ply.to_str().unwrap()]);
@@ -62,10 +72,17 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
         let layers = filmsplat::image::read_exr(&exr).unwrap();
         assert_eq!((layers.width, layers.height), (64, 48));
         let covered = layers.rgba.iter().filter(|p| p[3] > 0.0).count();
-        assert!(covered > 64 * 48 / 4, "{prim}: the bubble should fill the frame ({covered})");
+        assert!(
+            covered > 64 * 48 / 4,
+            "{prim}: the bubble should fill the frame ({covered})"
+        );
         assert!(layers.rgba.iter().flatten().all(|v| v.is_finite()));
         let thickness = layers.thickness.as_ref().unwrap();
-        assert!(thickness.iter().all(|t| t.is_finite() && *t >= 0.0 && *t < 1500.0));
+        assert!(
+            thickness
+                .iter()
+                .all(|t| t.is_finite() && *t >= 0.0 && *t < 1500.0)
+        );
     }
 }
 
@@ -73,11 +90,24 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
 fn real_sph_files_render() {
     // Shared data from SPlisHSPlasH and splashsurf (see tests/data/ATTRIBUTION.md): no normals,
     // no thickness; normals are estimated, thickness is the default.
-    for file in ["splishsplash_sphere_shell.ply", "double_dam_break_frame_26.ply"] {
+    for file in [
+        "splishsplash_sphere_shell.ply",
+        "double_dam_break_frame_26.ply",
+    ] {
         for prim in ["disk", "sphere"] {
             let png = tmp(&format!("{file}-{prim}.png"));
-            let (code, _, err) =
-                filmsplat(&["render", &data(file), "-o", png.to_str().unwrap(), "--primitive", prim, "--size", "64x48", "--spp", "1"]);
+            let (code, _, err) = filmsplat(&[
+                "render",
+                &data(file),
+                "-o",
+                png.to_str().unwrap(),
+                "--primitive",
+                prim,
+                "--size",
+                "64x48",
+                "--spp",
+                "1",
+            ]);
             assert_eq!(code, 0, "{file} {prim}: {err}");
             assert_eq!(png_size(&png), (64, 48));
         }
@@ -96,7 +126,15 @@ fn scene_files_render_and_flags_override_them() {
     assert_eq!(code, 0, "{err}");
     assert_eq!(png_size(&scene.with_file_name("from-scene.png")), (40, 30));
     let out = tmp("override.png");
-    let (code, _, err) = filmsplat(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--size", "20x10", "-q"]);
+    let (code, _, err) = filmsplat(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "20x10",
+        "-q",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(png_size(&out), (20, 10));
 }
@@ -104,7 +142,15 @@ fn scene_files_render_and_flags_override_them() {
 #[test]
 fn the_chart_is_written() {
     let png = tmp("chart.png");
-    let (code, _, err) = filmsplat(&["chart", "-o", png.to_str().unwrap(), "--size", "400x300", "--max-thickness", "800"]);
+    let (code, _, err) = filmsplat(&[
+        "chart",
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "400x300",
+        "--max-thickness",
+        "800",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(png_size(&png), (400, 300));
 }
@@ -132,25 +178,46 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         "zero-normal.ply",
         b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 0\n",
     );
-    let bad_scene = write("bad.toml", b"[input]\nsample = \"bubble\"\n[render]\nspps = 3\n");
+    let bad_scene = write(
+        "bad.toml",
+        b"[input]\nsample = \"bubble\"\n[render]\nspps = 3\n",
+    );
     let missing = tmp("does-not-exist.ply");
     let missing = missing.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["render", missing], "does-not-exist.ply"),
         (vec!["render", &truncated], "truncated.ply"),
         (vec!["render", &absurd], "absurd.ply"),
-        (vec!["render", &nan], "nan.ply: 1 particle has non-finite positions"),
-        (vec!["render", &negative], "negative.ply: 1 particle has negative thickness"),
-        (vec!["render", &zero_normal], "zero-normal.ply: 1 particle has zero-length normals"),
+        (
+            vec!["render", &nan],
+            "nan.ply: 1 particle has non-finite positions",
+        ),
+        (
+            vec!["render", &negative],
+            "negative.ply: 1 particle has negative thickness",
+        ),
+        (
+            vec!["render", &zero_normal],
+            "zero-normal.ply: 1 particle has zero-length normals",
+        ),
         (vec!["render", &bad_scene], "spps"),
         (vec!["render", &ok, "--spp", "0"], "spp"),
         (vec!["render", &ok, "--size", "0x10"], "size"),
         (vec!["render", &ok, "--primitive", "cube"], "cube"),
         (vec!["render", &ok, "--shading", "magic"], "magic"),
         (vec!["render", &ok, "--ior", "0.5"], "ior"),
-        (vec!["render", &ok, "--thickness-unit", "furlong"], "furlong"),
-        (vec!["render", &ok, "--wavelengths", "0", "--shading", "rgb"], "wavelengths"),
-        (vec!["render", &ok, "--env", "/nonexistent/env.exr"], "env.exr"),
+        (
+            vec!["render", &ok, "--thickness-unit", "furlong"],
+            "furlong",
+        ),
+        (
+            vec!["render", &ok, "--wavelengths", "0", "--shading", "rgb"],
+            "wavelengths",
+        ),
+        (
+            vec!["render", &ok, "--env", "/nonexistent/env.exr"],
+            "env.exr",
+        ),
         (vec!["info", missing], "does-not-exist.ply"),
         (vec!["info", &truncated], "truncated.ply"),
         (vec!["sample", "bubble", "--particles", "0"], "particles"),
@@ -160,7 +227,11 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         let _ = std::fs::remove_file(&out_png);
         let mut full = args.clone();
         if args[0] == "render" {
-            full.extend(["-o", out_png.to_str().unwrap(), "--size", "16x16"].iter().filter(|_| !args.contains(&"--size")));
+            full.extend(
+                ["-o", out_png.to_str().unwrap(), "--size", "16x16"]
+                    .iter()
+                    .filter(|_| !args.contains(&"--size")),
+            );
             if args.contains(&"--size") {
                 full.extend(["-o", out_png.to_str().unwrap()]);
             }
@@ -174,7 +245,10 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
         assert_eq!(lines.len(), 1, "{full:?}: one line expected, got: {err}");
         assert!(lines[0].starts_with("filmsplat: error:"), "{full:?}: {err}");
-        assert!(lines[0].contains(needle), "{full:?}: '{needle}' not in: {err}");
+        assert!(
+            lines[0].contains(needle),
+            "{full:?}: '{needle}' not in: {err}"
+        );
         assert!(!out_png.exists(), "{full:?} left an output file");
     }
 }

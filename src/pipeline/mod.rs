@@ -240,7 +240,8 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let t2 = Instant::now();
     let normals = cloud.normals.as_ref().expect("filled");
     let thickness = cloud.thickness_nm.as_ref().expect("filled");
-    let mut geometry = SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
+    let mut geometry =
+        SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
     if desc.film.blend == Some(false) {
         geometry.set_layer_blend(LayerBlend::NONE);
     }

@@ -4,6 +4,7 @@
 
 use glam::Vec3;
 
+pub mod curvature;
 pub mod eigen;
 pub mod estimate;
 pub mod knn;
