@@ -93,6 +93,11 @@ pub struct RenderArgs {
     /// Tone curve for PNG: filmic or clamp.
     #[arg(long)]
     tonemap: Option<String>,
+    /// What to show: shaded (the thin-film render), or a scientific view of the first film
+    /// crossing: thickness (false colour with a colour bar, nm), normal, depth, particle-id,
+    /// coverage (splats blended per pixel: shows sparse regions and holes).
+    #[arg(long)]
+    view: Option<String>,
     /// No progress bar or summary.
     #[arg(short, long)]
     quiet: bool,
@@ -154,6 +159,7 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.camera.fov, a.fov);
     set!(d.output.exposure, a.exposure);
     set!(d.output.tonemap, a.tonemap);
+    set!(d.render.view, a.view);
     if a.no_blend {
         d.film.blend = Some(false);
     }
@@ -201,6 +207,16 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     }
     let progress = !a.quiet && std::io::stderr().is_terminal();
     let prepared = pipeline::prepare(&desc, &base, progress)?;
+    if let Some(view) = pipeline::render_view(&prepared)? {
+        pipeline::write_view(&view, &output)?;
+        if let Some(exr) = &a.exr {
+            pipeline::write_view(&view, exr)?;
+        }
+        if !a.quiet {
+            let _ = writeln!(out, "{} particles: {} view; wrote {}", prepared.particles, prepared.view, output.display());
+        }
+        return Ok(());
+    }
     let t = Instant::now();
     let result = pipeline::render(&prepared)?;
     let render_time = t.elapsed();

@@ -1,5 +1,7 @@
-//! Figures: the interference colour chart and other annotated images.
+//! Figures: the interference colour chart, colour bars and other annotated images.
 
 pub mod chart;
+pub mod colour_bar;
 
 pub use chart::{ChartParams, interference_chart};
+pub use colour_bar::add_colour_bar;

@@ -17,7 +17,7 @@ use crate::optics::check_film_params;
 use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, validate};
 use crate::render::{
     Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode,
-    Studio,
+    Studio, View, ViewImage,
 };
 use crate::samples::{BubbleParams, bubble};
 use crate::scene::SceneDesc;
@@ -40,6 +40,8 @@ pub struct Prepared {
     pub exposure: f32,
     /// Tone curve for PNG output.
     pub tonemap: ToneMap,
+    /// What to show.
+    pub view: View,
     /// Output path from the scene file, resolved against its folder.
     pub output: Option<PathBuf>,
     /// Number of particles.
@@ -138,6 +140,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         "render.strategy",
     )?;
     let tonemap: ToneMap = parse_enum(&desc.output.tonemap, ToneMap::Filmic, "output.tonemap")?;
+    let view: View = parse_enum(&desc.render.view, View::Shaded, "render.view")?;
     let r = &desc.render;
     let settings = RenderSettings {
         width: r.width.unwrap_or(960),
@@ -285,6 +288,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         settings,
         exposure: desc.output.exposure.unwrap_or(0.0),
         tonemap,
+        view,
         output,
         particles: cloud.len(),
         load_time,
@@ -413,5 +417,38 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
             "{}: output must end in .png or .exr",
             path.display()
         ))),
+    }
+}
+
+/// Renders the prepared scene's scientific view (see [`View`]); `None` for the shaded view.
+pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
+    if p.view == View::Shaded {
+        return Ok(None);
+    }
+    crate::render::render_view(&p.scene, p.view, p.settings.width, p.settings.height).map(Some)
+}
+
+/// Writes a view: PNG with its colour bar beside it (clamp tone curve, 0 EV), or EXR with the
+/// view's linear RGB.
+pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
+    let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
+    let img = RgbImage::from_data(v.width, v.height, data)?;
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => {
+            let img = match &v.legend {
+                Some(l) => {
+                    let ramp = |t: f32| if l.viridis { crate::image::viridis(t) } else { [crate::image::srgb_to_linear(0.08 + 0.92 * t); 3] };
+                    crate::figure::add_colour_bar(&img, &l.title, l.min, l.max, &ramp)
+                }
+                None => img,
+            };
+            save_png(path, &img, 0.0, ToneMap::Clamp)
+        }
+        Some("exr") => {
+            let rgba = img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
+            write_exr(path, &ExrLayers::rgba(v.width, v.height, rgba))
+        }
+        _ => Err(Error::invalid(format!("{}: output must end in .png or .exr", path.display()))),
     }
 }

@@ -122,6 +122,9 @@ pub struct RenderDesc {
     pub wavelengths: Option<usize>,
     /// "jittered" (default), "stratified" or "hero".
     pub strategy: Option<String>,
+    /// What to show: "shaded" (default), "thickness", "normal", "depth", "particle-id",
+    /// "coverage".
+    pub view: Option<String>,
 }
 
 /// `[output]`: files and tone mapping.

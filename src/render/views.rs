@@ -1,0 +1,180 @@
+//! Scientific views: what the camera's first film crossing holds, drawn exactly and cheaply
+//! (no spectra, no ray tree, one ray through each pixel centre).
+
+use super::integrator::Scene;
+use crate::geometry::SurfaceHit;
+use crate::image::{srgb_to_linear, viridis};
+use crate::{Error, Result};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::fmt;
+use std::str::FromStr;
+
+/// What to show (`--view`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum View {
+    /// The photorealistic thin-film render.
+    #[default]
+    Shaded,
+    /// Film thickness in false colour (viridis), with a labelled colour bar.
+    Thickness,
+    /// The film normal as RGB (x, y, z from −1..1 to 0..1).
+    Normal,
+    /// Distance to the first crossing, near = light, far = dark, with a colour bar.
+    Depth,
+    /// Each particle its own colour (the particle with the largest weight at the crossing).
+    ParticleId,
+    /// How many splats were blended into the crossing: shows sparse regions and holes.
+    Coverage,
+}
+
+impl FromStr for View {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "shaded" => Ok(View::Shaded),
+            "thickness" => Ok(View::Thickness),
+            "normal" => Ok(View::Normal),
+            "depth" => Ok(View::Depth),
+            "particle-id" => Ok(View::ParticleId),
+            "coverage" => Ok(View::Coverage),
+            _ => Err(format!(
+                "unknown view '{s}' (expected shaded, thickness, normal, depth, particle-id or coverage)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for View {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            View::Shaded => "shaded",
+            View::Thickness => "thickness",
+            View::Normal => "normal",
+            View::Depth => "depth",
+            View::ParticleId => "particle-id",
+            View::Coverage => "coverage",
+        })
+    }
+}
+
+/// A colour bar for a view: the value range its colours span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Legend {
+    /// Title, with unit.
+    pub title: String,
+    /// Value at the bottom of the bar.
+    pub min: f32,
+    /// Value at the top of the bar.
+    pub max: f32,
+    /// True for viridis, false for the grey ramp (dark = min).
+    pub viridis: bool,
+}
+
+/// A rendered view: display-ready linear RGB (write it with the clamp tone curve at 0 EV) and
+/// its legend, if it has one.
+#[derive(Debug, Clone)]
+pub struct ViewImage {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// Linear RGB.
+    pub rgb: Vec<Vec3>,
+    /// The colour bar to draw beside it.
+    pub legend: Option<Legend>,
+}
+
+/// Background of pixels whose ray meets no film.
+const BACKGROUND: Vec3 = Vec3::splat(0.012);
+
+/// Renders `view` (not [`View::Shaded`]) at `width × height`.
+pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Result<ViewImage> {
+    if width == 0 || height == 0 {
+        return Err(Error::invalid(format!("image size must be at least 1x1, got {width}x{height}")));
+    }
+    if view == View::Shaded {
+        return Err(Error::Internal("render_view: the shaded view is the integrator's".into()));
+    }
+    let aspect = width as f32 / height as f32;
+    let hits: Vec<Option<SurfaceHit>> = (0..width * height)
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|k| {
+            let (x, y) = (k % width, k / width);
+            let ray = scene.camera.ray((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32, aspect);
+            scene.geometry.intersect(&ray, 0.0, f32::INFINITY)
+        })
+        .collect();
+    let range = |f: &dyn Fn(&SurfaceHit) -> f32| {
+        hits.iter().flatten().map(f).fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+    };
+    let normalise = |v: f32, (lo, hi): (f32, f32)| if hi > lo { ((v - lo) / (hi - lo)).clamp(0.0, 1.0) } else { 0.5 };
+    let (colour, legend): (Box<dyn Fn(&SurfaceHit) -> Vec3 + Sync>, Option<Legend>) = match view {
+        View::Thickness => {
+            let r = range(&|h| h.thickness_nm);
+            let legend = Legend { title: "thickness (nm)".into(), min: r.0, max: r.1, viridis: true };
+            (Box::new(move |h| Vec3::from(viridis(normalise(h.thickness_nm, r)))), Some(legend))
+        }
+        View::Depth => {
+            let r = range(&|h| h.t);
+            let legend = Legend { title: "distance (scene units)".into(), min: r.0, max: r.1, viridis: false };
+            (Box::new(move |h| Vec3::splat(grey(1.0 - normalise(h.t, r)))), Some(legend))
+        }
+        View::Coverage => {
+            let r = (1.0, range(&|h| h.coverage as f32).1.max(2.0));
+            let legend = Legend { title: "splats blended".into(), min: r.0, max: r.1, viridis: true };
+            (Box::new(move |h| Vec3::from(viridis(normalise(h.coverage as f32, r)))), Some(legend))
+        }
+        View::Normal => (Box::new(|h| (h.normal * 0.5 + Vec3::splat(0.5)).map(srgb_to_linear)), None),
+        View::ParticleId => (Box::new(|h| id_colour(h.particle)), None),
+        View::Shaded => unreachable!("rejected above"),
+    };
+    let rgb = hits.par_iter().map(|h| h.as_ref().map_or(BACKGROUND, |h| colour(h))).collect();
+    Ok(ViewImage { width, height, rgb, legend })
+}
+
+/// Linear value of an sRGB-encoded grey level, so ramps look even on screen.
+fn grey(encoded: f32) -> f32 {
+    srgb_to_linear(0.08 + 0.92 * encoded)
+}
+
+/// A stable, well-spread colour for a particle index.
+fn id_colour(id: u32) -> Vec3 {
+    let h = super::sampler::mix64(id as u64);
+    let c = |shift: u32| srgb_to_linear(0.25 + 0.75 * ((h >> shift) & 0xff) as f32 / 255.0);
+    Vec3::new(c(0), c(8), c(16))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Primitive, SplatGeometry};
+    use crate::render::{Camera, Environment};
+
+    #[test]
+    fn thickness_view_maps_the_range_and_leaves_background() {
+        // Two disks side by side, 100 and 500 nm.
+        let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
+        let geometry = SplatGeometry::build(Primitive::Disk, &p, &[Vec3::Z; 2], &[0.9; 2], &[100.0, 500.0]).unwrap();
+        let scene = Scene {
+            geometry,
+            camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
+            environment: Environment::Uniform(Vec3::ONE),
+            layer_skip: 0.1,
+            epsilon: 1e-5,
+        };
+        let v = render_view(&scene, View::Thickness, 40, 20).unwrap();
+        let legend = v.legend.unwrap();
+        assert!((legend.min - 100.0).abs() < 1e-3 && (legend.max - 500.0).abs() < 1e-3, "{legend:?}");
+        let left = v.rgb[10 * 40 + 11];
+        let right = v.rgb[10 * 40 + 28];
+        assert!((left - Vec3::from(viridis(0.0))).length() < 1e-4, "{left}");
+        assert!((right - Vec3::from(viridis(1.0))).length() < 1e-4, "{right}");
+        assert_eq!(v.rgb[0], BACKGROUND);
+        let c = render_view(&scene, View::Coverage, 40, 20).unwrap();
+        assert_eq!(c.rgb[10 * 40 + 11], Vec3::from(viridis(0.0)), "one splat");
+        let ids = render_view(&scene, View::ParticleId, 40, 20).unwrap();
+        assert_ne!(ids.rgb[10 * 40 + 11], ids.rgb[10 * 40 + 28]);
+    }
+}
