@@ -287,3 +287,21 @@ fn a_latlong_environment_map_lights_the_scene() {
     }
     assert!(film > 100, "the shell should be in view ({film})");
 }
+
+#[test]
+fn scientific_views_render_with_colour_bars() {
+    let shell = data("splishsplash_sphere_shell.ply");
+    for view in ["thickness", "normal", "depth", "particle-id", "coverage"] {
+        let png = tmp(&format!("view-{view}.png"));
+        let (code, out, err) = filmsplat(&["render", &shell, "--view", view, "-o", png.to_str().unwrap(), "--size", "64x48"]);
+        assert_eq!(code, 0, "{view}: {err}");
+        assert!(out.contains(view), "{out}");
+        let (w, h) = png_size(&png);
+        assert_eq!(h, 48);
+        let with_bar = matches!(view, "thickness" | "depth" | "coverage");
+        assert_eq!(w > 64, with_bar, "{view}: width {w}");
+    }
+    let (code, _, err) = filmsplat(&["render", &shell, "--view", "xray", "-o", tmp("x.png").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("xray"), "{err}");
+}
