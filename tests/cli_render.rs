@@ -293,7 +293,16 @@ fn scientific_views_render_with_colour_bars() {
     let shell = data("splishsplash_sphere_shell.ply");
     for view in ["thickness", "normal", "depth", "particle-id", "coverage"] {
         let png = tmp(&format!("view-{view}.png"));
-        let (code, out, err) = filmsplat(&["render", &shell, "--view", view, "-o", png.to_str().unwrap(), "--size", "64x48"]);
+        let (code, out, err) = filmsplat(&[
+            "render",
+            &shell,
+            "--view",
+            view,
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "64x48",
+        ]);
         assert_eq!(code, 0, "{view}: {err}");
         assert!(out.contains(view), "{out}");
         let (w, h) = png_size(&png);
@@ -301,7 +310,47 @@ fn scientific_views_render_with_colour_bars() {
         let with_bar = matches!(view, "thickness" | "depth" | "coverage");
         assert_eq!(w > 64, with_bar, "{view}: width {w}");
     }
-    let (code, _, err) = filmsplat(&["render", &shell, "--view", "xray", "-o", tmp("x.png").to_str().unwrap()]);
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &shell,
+        "--view",
+        "xray",
+        "-o",
+        tmp("x.png").to_str().unwrap(),
+    ]);
     assert_eq!(code, 2);
     assert!(err.contains("xray"), "{err}");
+}
+
+#[test]
+fn repair_drops_or_fixes_bad_particles_and_says_so() {
+    let ply = write(
+        "repairable.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float rh\nend_header\n\
+0 0 0 0 0 1 300\n0.1 0 0 0 0 1 300\nnan 0 0 0 0 1 300\n0 0.1 0 0 0 0 300\n0.1 0.1 0 0 0 1 -4\n",
+    );
+    let png = tmp("repaired.png");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &ply,
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "16x16",
+    ]);
+    assert_eq!(code, 2, "refused without --repair: {err}");
+    let (code, out, err) = filmsplat(&[
+        "render",
+        &ply,
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "16x16",
+        "--repair",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("dropped 1 with non-finite positions"), "{out}");
+    assert!(out.contains("dropped 1 with bad thickness"), "{out}");
+    assert!(out.contains("3 particles"), "{out}");
+    assert_eq!(png_size(&png), (16, 16));
 }

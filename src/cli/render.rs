@@ -98,6 +98,10 @@ pub struct RenderArgs {
     /// coverage (splats blended per pixel: shows sparse regions and holes).
     #[arg(long)]
     view: Option<String>,
+    /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
+    /// and radii (says how many), instead of refusing the file.
+    #[arg(long)]
+    repair: bool,
     /// No progress bar or summary.
     #[arg(short, long)]
     quiet: bool,
@@ -160,6 +164,9 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.output.exposure, a.exposure);
     set!(d.output.tonemap, a.tonemap);
     set!(d.render.view, a.view);
+    if a.repair {
+        d.input.repair = Some(true);
+    }
     if a.no_blend {
         d.film.blend = Some(false);
     }
@@ -207,13 +214,24 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     }
     let progress = !a.quiet && std::io::stderr().is_terminal();
     let prepared = pipeline::prepare(&desc, &base, progress)?;
+    if !a.quiet {
+        for note in prepared.notes.iter().filter(|n| !n.is_empty()) {
+            let _ = writeln!(out, "{note}");
+        }
+    }
     if let Some(view) = pipeline::render_view(&prepared)? {
         pipeline::write_view(&view, &output)?;
         if let Some(exr) = &a.exr {
             pipeline::write_view(&view, exr)?;
         }
         if !a.quiet {
-            let _ = writeln!(out, "{} particles: {} view; wrote {}", prepared.particles, prepared.view, output.display());
+            let _ = writeln!(
+                out,
+                "{} particles: {} view; wrote {}",
+                prepared.particles,
+                prepared.view,
+                output.display()
+            );
         }
         return Ok(());
     }

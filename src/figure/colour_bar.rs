@@ -5,7 +5,13 @@ use crate::image::{Anchor, RgbImage, draw_line, draw_text, draw_text_vertical, f
 /// Returns `img` widened on the right by a panel holding a vertical colour bar from `min`
 /// (bottom) to `max` (top), coloured by `ramp(t)` for t in [0, 1] (linear RGB), with tick
 /// labels and the `title` written along it. Text and bar scale with the image height.
-pub fn add_colour_bar(img: &RgbImage, title: &str, min: f32, max: f32, ramp: &dyn Fn(f32) -> [f32; 3]) -> RgbImage {
+pub fn add_colour_bar(
+    img: &RgbImage,
+    title: &str,
+    min: f32,
+    max: f32,
+    ramp: &dyn Fn(f32) -> [f32; 3],
+) -> RgbImage {
     let h = img.height;
     let s = (h as f32 / 540.0).clamp(0.35, 4.0);
     let panel = (150.0 * s).round() as usize;
@@ -21,22 +27,49 @@ pub fn add_colour_bar(img: &RgbImage, title: &str, min: f32, max: f32, ramp: &dy
     let rows = (y1 - y0).ceil() as usize;
     for r in 0..rows {
         let t = 1.0 - (r as f32 + 0.5) / rows as f32;
-        fill_rect(&mut out, x0, y0 + r as f32, x1, y0 + r as f32 + 1.0, ramp(t));
+        fill_rect(
+            &mut out,
+            x0,
+            y0 + r as f32,
+            x1,
+            y0 + r as f32 + 1.0,
+            ramp(t),
+        );
     }
     let size = 15.0 * s;
     let ticks = 5;
     // Enough decimals to tell neighbouring ticks apart, no more.
     let step = ((max - min) / ticks as f32).abs();
-    let decimals = if step > 0.0 { (1.0 - step.log10().floor()).clamp(0.0, 6.0) as usize } else { 0 };
+    let decimals = if step > 0.0 {
+        (1.0 - step.log10().floor()).clamp(0.0, 6.0) as usize
+    } else {
+        0
+    };
     for i in 0..=ticks {
         let t = i as f32 / ticks as f32;
         let y = y1 - t * (y1 - y0);
         let v = min + t * (max - min);
         draw_line(&mut out, x1, y, x1 + 6.0 * s, y, 1.0, ink);
         let label = format!("{v:.*}", decimals);
-        draw_text(&mut out, x1 + 9.0 * s, y, &label, size, ink, Anchor::MIDDLE_LEFT);
+        draw_text(
+            &mut out,
+            x1 + 9.0 * s,
+            y,
+            &label,
+            size,
+            ink,
+            Anchor::MIDDLE_LEFT,
+        );
     }
-    draw_text_vertical(&mut out, x0 - 10.0 * s, 0.5 * (y0 + y1), title, size, ink, Anchor::CENTRE);
+    draw_text_vertical(
+        &mut out,
+        x0 - 10.0 * s,
+        0.5 * (y0 + y1),
+        title,
+        size,
+        ink,
+        Anchor::CENTRE,
+    );
     out
 }
 

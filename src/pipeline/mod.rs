@@ -14,7 +14,7 @@ use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
-use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, validate};
+use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, repair, validate};
 use crate::render::{
     Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode,
     Studio, View, ViewImage,
@@ -190,10 +190,17 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let t0 = Instant::now();
     let mut cloud = load_cloud(desc, base)?;
     let load_time = t0.elapsed();
-    validate(&cloud).map_err(|e| match &desc.input.cloud {
+    let name_file = |e: Error| match &desc.input.cloud {
         Some(path) => Error::invalid(format!("{}: {e}", base.join(path).display())),
         None => e,
-    })?;
+    };
+    let repairing = desc.input.repair == Some(true);
+    if repairing {
+        let report = repair(&mut cloud);
+        notes.push(report.to_string());
+    } else {
+        validate(&cloud).map_err(name_file)?;
+    }
     let t1 = Instant::now();
     if let Some(t) = cloud
         .thickness_nm
@@ -211,6 +218,9 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         },
     );
     notes.push(report.to_string());
+    if repairing {
+        validate(&cloud).map_err(name_file)?;
+    }
     let estimate_time = t1.elapsed();
     let thickness_ok = |v: &f32| check_film_params(ior as f64, *v as f64).is_ok();
     if let Some((i, v)) = cloud
@@ -433,12 +443,21 @@ pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
 pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
     let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
     let img = RgbImage::from_data(v.width, v.height, data)?;
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("png") => {
             let img = match &v.legend {
                 Some(l) => {
-                    let ramp = |t: f32| if l.viridis { crate::image::viridis(t) } else { [crate::image::srgb_to_linear(0.08 + 0.92 * t); 3] };
+                    let ramp = |t: f32| {
+                        if l.viridis {
+                            crate::image::viridis(t)
+                        } else {
+                            [crate::image::srgb_to_linear(0.08 + 0.92 * t); 3]
+                        }
+                    };
                     crate::figure::add_colour_bar(&img, &l.title, l.min, l.max, &ramp)
                 }
                 None => img,
@@ -449,6 +468,9 @@ pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
             let rgba = img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
             write_exr(path, &ExrLayers::rgba(v.width, v.height, rgba))
         }
-        _ => Err(Error::invalid(format!("{}: output must end in .png or .exr", path.display()))),
+        _ => Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            path.display()
+        ))),
     }
 }

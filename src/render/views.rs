@@ -91,10 +91,14 @@ const BACKGROUND: Vec3 = Vec3::splat(0.012);
 /// Renders `view` (not [`View::Shaded`]) at `width × height`.
 pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Result<ViewImage> {
     if width == 0 || height == 0 {
-        return Err(Error::invalid(format!("image size must be at least 1x1, got {width}x{height}")));
+        return Err(Error::invalid(format!(
+            "image size must be at least 1x1, got {width}x{height}"
+        )));
     }
     if view == View::Shaded {
-        return Err(Error::Internal("render_view: the shaded view is the integrator's".into()));
+        return Err(Error::Internal(
+            "render_view: the shaded view is the integrator's".into(),
+        ));
     }
     let aspect = width as f32 / height as f32;
     let hits: Vec<Option<SurfaceHit>> = (0..width * height)
@@ -102,36 +106,86 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
         .with_min_len(256)
         .map(|k| {
             let (x, y) = (k % width, k / width);
-            let ray = scene.camera.ray((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32, aspect);
+            let ray = scene.camera.ray(
+                (x as f32 + 0.5) / width as f32,
+                (y as f32 + 0.5) / height as f32,
+                aspect,
+            );
             scene.geometry.intersect(&ray, 0.0, f32::INFINITY)
         })
         .collect();
     let range = |f: &dyn Fn(&SurfaceHit) -> f32| {
-        hits.iter().flatten().map(f).fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+        hits.iter()
+            .flatten()
+            .map(f)
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
     };
-    let normalise = |v: f32, (lo, hi): (f32, f32)| if hi > lo { ((v - lo) / (hi - lo)).clamp(0.0, 1.0) } else { 0.5 };
+    let normalise = |v: f32, (lo, hi): (f32, f32)| {
+        if hi > lo {
+            ((v - lo) / (hi - lo)).clamp(0.0, 1.0)
+        } else {
+            0.5
+        }
+    };
     let (colour, legend): (Box<dyn Fn(&SurfaceHit) -> Vec3 + Sync>, Option<Legend>) = match view {
         View::Thickness => {
             let r = range(&|h| h.thickness_nm);
-            let legend = Legend { title: "thickness (nm)".into(), min: r.0, max: r.1, viridis: true };
-            (Box::new(move |h| Vec3::from(viridis(normalise(h.thickness_nm, r)))), Some(legend))
+            let legend = Legend {
+                title: "thickness (nm)".into(),
+                min: r.0,
+                max: r.1,
+                viridis: true,
+            };
+            (
+                Box::new(move |h| Vec3::from(viridis(normalise(h.thickness_nm, r)))),
+                Some(legend),
+            )
         }
         View::Depth => {
             let r = range(&|h| h.t);
-            let legend = Legend { title: "distance (scene units)".into(), min: r.0, max: r.1, viridis: false };
-            (Box::new(move |h| Vec3::splat(grey(1.0 - normalise(h.t, r)))), Some(legend))
+            let legend = Legend {
+                title: "distance (scene units)".into(),
+                min: r.0,
+                max: r.1,
+                viridis: false,
+            };
+            (
+                Box::new(move |h| Vec3::splat(grey(1.0 - normalise(h.t, r)))),
+                Some(legend),
+            )
         }
         View::Coverage => {
             let r = (1.0, range(&|h| h.coverage as f32).1.max(2.0));
-            let legend = Legend { title: "splats blended".into(), min: r.0, max: r.1, viridis: true };
-            (Box::new(move |h| Vec3::from(viridis(normalise(h.coverage as f32, r)))), Some(legend))
+            let legend = Legend {
+                title: "splats blended".into(),
+                min: r.0,
+                max: r.1,
+                viridis: true,
+            };
+            (
+                Box::new(move |h| Vec3::from(viridis(normalise(h.coverage as f32, r)))),
+                Some(legend),
+            )
         }
-        View::Normal => (Box::new(|h| (h.normal * 0.5 + Vec3::splat(0.5)).map(srgb_to_linear)), None),
+        View::Normal => (
+            Box::new(|h| (h.normal * 0.5 + Vec3::splat(0.5)).map(srgb_to_linear)),
+            None,
+        ),
         View::ParticleId => (Box::new(|h| id_colour(h.particle)), None),
         View::Shaded => unreachable!("rejected above"),
     };
-    let rgb = hits.par_iter().map(|h| h.as_ref().map_or(BACKGROUND, |h| colour(h))).collect();
-    Ok(ViewImage { width, height, rgb, legend })
+    let rgb = hits
+        .par_iter()
+        .map(|h| h.as_ref().map_or(BACKGROUND, |h| colour(h)))
+        .collect();
+    Ok(ViewImage {
+        width,
+        height,
+        rgb,
+        legend,
+    })
 }
 
 /// Linear value of an sRGB-encoded grey level, so ramps look even on screen.
@@ -156,7 +210,14 @@ mod tests {
     fn thickness_view_maps_the_range_and_leaves_background() {
         // Two disks side by side, 100 and 500 nm.
         let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
-        let geometry = SplatGeometry::build(Primitive::Disk, &p, &[Vec3::Z; 2], &[0.9; 2], &[100.0, 500.0]).unwrap();
+        let geometry = SplatGeometry::build(
+            Primitive::Disk,
+            &p,
+            &[Vec3::Z; 2],
+            &[0.9; 2],
+            &[100.0, 500.0],
+        )
+        .unwrap();
         let scene = Scene {
             geometry,
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
@@ -166,11 +227,17 @@ mod tests {
         };
         let v = render_view(&scene, View::Thickness, 40, 20).unwrap();
         let legend = v.legend.unwrap();
-        assert!((legend.min - 100.0).abs() < 1e-3 && (legend.max - 500.0).abs() < 1e-3, "{legend:?}");
+        assert!(
+            (legend.min - 100.0).abs() < 1e-3 && (legend.max - 500.0).abs() < 1e-3,
+            "{legend:?}"
+        );
         let left = v.rgb[10 * 40 + 11];
         let right = v.rgb[10 * 40 + 28];
         assert!((left - Vec3::from(viridis(0.0))).length() < 1e-4, "{left}");
-        assert!((right - Vec3::from(viridis(1.0))).length() < 1e-4, "{right}");
+        assert!(
+            (right - Vec3::from(viridis(1.0))).length() < 1e-4,
+            "{right}"
+        );
         assert_eq!(v.rgb[0], BACKGROUND);
         let c = render_view(&scene, View::Coverage, 40, 20).unwrap();
         assert_eq!(c.rgb[10 * 40 + 11], Vec3::from(viridis(0.0)), "one splat");

@@ -45,6 +45,9 @@ pub struct InputDesc {
     pub time: Option<f32>,
     /// Name of the thickness attribute in the file (default: rh, thickness, h).
     pub thickness_attr: Option<String>,
+    /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
+    /// and radii, instead of refusing the file (default false).
+    pub repair: Option<bool>,
 }
 
 /// `[film]`: optics and splat geometry.
