@@ -85,6 +85,9 @@ pub struct ViewImage {
     pub legend: Option<Legend>,
 }
 
+/// How a view colours one crossing.
+type Colouring = Box<dyn Fn(&SurfaceHit) -> Vec3 + Sync>;
+
 /// Background of pixels whose ray meets no film.
 const BACKGROUND: Vec3 = Vec3::splat(0.012);
 
@@ -129,7 +132,7 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
             0.5
         }
     };
-    let (colour, legend): (Box<dyn Fn(&SurfaceHit) -> Vec3 + Sync>, Option<Legend>) = match view {
+    let (colour, legend): (Colouring, Option<Legend>) = match view {
         View::Thickness => {
             let r = range(&|h| h.thickness_nm);
             let legend = Legend {
@@ -178,7 +181,7 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
     };
     let rgb = hits
         .par_iter()
-        .map(|h| h.as_ref().map_or(BACKGROUND, |h| colour(h)))
+        .map(|h| h.as_ref().map_or(BACKGROUND, &colour))
         .collect();
     Ok(ViewImage {
         width,
