@@ -1,18 +1,7 @@
 //! `filmsplat film` against the independent reference tables, and its error paths.
 
-use std::process::Command;
-
-fn filmsplat(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_filmsplat"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
-}
+mod cli_support;
+use cli_support::filmsplat;
 
 fn csv(text: &str) -> Vec<Vec<f64>> {
     text.lines()
