@@ -8,13 +8,13 @@
 //!
 //! Queries take closures and are independent of the primitive type:
 //! [`Bvh::closest`] (closest hit, the closure shrinks `t_max`), [`Bvh::any`] (stops at the first
-//! `true`) and [`Bvh::visit_segment`] (every slot whose box overlaps a ray segment). Traversal
-//! is iterative with a fixed stack, visits the nearer child first, and culls stacked nodes whose
-//! entry distance is already beyond `t_max`.
+//! `true`) and [`Bvh::visit_segment`] (every slot whose box overlaps a ray segment). Queries run
+//! on a 4-wide copy of the tree (see the `wide` module: one SIMD slab test per node, children
+//! visited nearest first, deferred nodes culled once their entry distance is beyond `t_max`).
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
-use super::aabb::{SLAB_ROBUST, safe_inv_dir};
+use super::wide::Node4;
 use super::{Aabb, Ray};
 
 /// One flattened node (32 bytes). Interior: `count == 0`, left child at `index + 1`, right child
@@ -75,16 +75,21 @@ impl Default for BvhParams {
     }
 }
 
-/// Stack depth of the traversal. The builder switches to median splits below depth
+/// Bound on the binary tree's depth. The builder switches to median splits below depth
 /// `bvh_build::MAX_SAH_DEPTH`, so trees stay shallower than this for any 32-bit primitive count.
 pub(crate) const STACK_SIZE: usize = 96;
 
-/// A flattened BVH (see the module docs). Memory: 32 bytes per node (about `2n / leaf size`
-/// nodes) plus 4 bytes per primitive for the slot order.
+/// A flattened BVH (see the module docs). Memory: 32 bytes per binary node (about
+/// `2n / leaf size` nodes), 128 bytes per 4-wide node (about a third as many) and 4 bytes per
+/// primitive for the slot order: ~44 bytes per primitive at 4 primitives per leaf.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     pub(crate) nodes: Vec<BvhNode>,
     pub(crate) order: Vec<u32>,
+    /// The same tree collapsed to 4-wide nodes; all queries traverse this.
+    pub(crate) wide: Vec<Node4>,
+    /// Traversal stack entries the wide tree needs.
+    pub(crate) wide_stack: usize,
 }
 
 impl Bvh {
@@ -98,7 +103,13 @@ impl Bvh {
     /// Builds with explicit parameters (see [`Bvh::build`]).
     pub fn build_with(bounds: &[Aabb], params: BvhParams) -> Bvh {
         let (nodes, order) = super::bvh_build::build(bounds, params);
-        Bvh { nodes, order }
+        let (wide, wide_stack) = super::wide::collapse(&nodes);
+        Bvh {
+            nodes,
+            order,
+            wide,
+            wide_stack,
+        }
     }
 
     /// `order()[slot]` is the index (into the `bounds` given to the build) of the primitive in
@@ -127,9 +138,11 @@ impl Bvh {
         self.nodes.first().map_or(Aabb::EMPTY, BvhNode::bounds)
     }
 
-    /// Heap bytes used by nodes and slot order.
+    /// Heap bytes used by nodes (binary and 4-wide) and slot order.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<BvhNode>() + self.order.capacity() * 4
+        self.nodes.capacity() * std::mem::size_of::<BvhNode>()
+            + self.wide.capacity() * std::mem::size_of::<Node4>()
+            + self.order.capacity() * 4
     }
 
     /// Closest-hit query. `hit(slot, &mut t_max)` must test the primitive in `slot` and, if it
@@ -173,79 +186,46 @@ impl Bvh {
         });
     }
 
-    /// The traversal loop. `leaf(first, count, &mut t_max)` returns `true` to stop; the loop then
-    /// returns `true`.
+    /// The traversal loop (over the 4-wide tree, see the `wide` module). `leaf(first, count,
+    /// &mut t_max)` returns `true` to stop; the loop then returns `true`.
     #[inline(always)]
     fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        mut leaf: L,
+        leaf: L,
     ) -> bool {
-        let nodes = &self.nodes[..];
-        let Some(root) = nodes.first() else {
-            return false;
-        };
-        let o = Vec3A::from(ray.origin);
-        let inv = Vec3A::from(safe_inv_dir(ray.dir));
-        // Entry distance of a node's box, or +inf if the ray misses it within [t_min, t_max].
-        let entry = |n: &BvhNode, t_max: f32| {
-            let t1 = (Vec3A::from_array(n.min) - o) * inv;
-            let t2 = (Vec3A::from_array(n.max) - o) * inv;
-            let tn = t1.min(t2).max_element();
-            let tf = t1.max(t2).min_element();
-            let tn = if tn > t_min { tn } else { t_min };
-            let tf = if tf < t_max { tf } else { t_max };
-            if tn <= tf * SLAB_ROBUST {
-                tn
-            } else {
-                f32::INFINITY
-            }
-        };
-        if entry(root, *t_max) == f32::INFINITY {
-            return false;
-        }
-        let mut stack = [(0u32, 0f32); STACK_SIZE];
-        let mut sp = 0usize;
-        let mut index = 0usize;
-        loop {
-            let node = &nodes[index];
-            if node.count > 0 {
-                if leaf(node.offset, node.count, t_max) {
-                    return true;
-                }
-            } else {
-                let left = index + 1;
-                let right = node.offset as usize;
-                let tl = entry(&nodes[left], *t_max);
-                let tr = entry(&nodes[right], *t_max);
-                let (near, far, t_near, t_far) = if tl <= tr {
-                    (left, right, tl, tr)
-                } else {
-                    (right, left, tr, tl)
-                };
-                if t_near != f32::INFINITY {
-                    if t_far != f32::INFINITY {
-                        stack[sp] = (far as u32, t_far);
-                        sp += 1;
-                    }
-                    index = near;
-                    continue;
-                }
-            }
-            // Pop the next node still in range.
-            loop {
-                if sp == 0 {
-                    return false;
-                }
-                sp -= 1;
-                let (i, t_enter) = stack[sp];
-                if t_enter <= *t_max * SLAB_ROBUST {
-                    index = i as usize;
-                    break;
-                }
-            }
-        }
+        super::wide::traverse(&self.wide, self.wide_stack, ray, t_min, t_max, leaf)
+    }
+
+    /// Closest-hit query by leaves: `hit(first, count, &mut t_max)` tests slots
+    /// `first .. first + count` (near leaves first) and may lower `t_max` (see [`Bvh::closest`]).
+    #[inline]
+    pub(crate) fn closest_leaves<F: FnMut(u32, u32, &mut f32)>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        mut hit: F,
+    ) {
+        let mut t_max = t_max;
+        self.traverse(ray, t_min, &mut t_max, |first, count, t_max| {
+            hit(first, count, t_max);
+            false
+        });
+    }
+
+    /// Any-hit query by leaves: stops at the first leaf for which `hit(first, count)` is true.
+    #[inline]
+    pub(crate) fn any_leaves<F: FnMut(u32, u32) -> bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        mut hit: F,
+    ) -> bool {
+        let mut t_max = t_max;
+        self.traverse(ray, t_min, &mut t_max, |first, count, _| hit(first, count))
     }
 }

@@ -14,9 +14,11 @@ mod aabb;
 mod blend;
 mod bvh;
 mod bvh_build;
+mod disk4;
 pub mod primitives;
 mod query;
 mod splat;
+mod wide;
 
 use std::fmt;
 use std::str::FromStr;

@@ -11,6 +11,7 @@
 //! traversal is run; on smooth films this is rare.
 
 use super::blend::{LayerSum, kernel};
+use super::disk4::DiskRay4;
 use super::primitives::{intersect_disk, intersect_sphere, sphere_roots};
 use super::{Ray, SplatGeometry, SurfaceHit};
 
@@ -26,20 +27,62 @@ const LIMIT_SLACK: f32 = 1.5;
 type DiskHit = (u32, f32, f32);
 
 impl SplatGeometry {
+    /// Tests the disks in slots `first .. first + count` four at a time for
+    /// `t_min < t < t_max` and calls `hit(slot, t, d2)` for each hit, in slot order.
+    #[inline(always)]
+    fn disk_leaf(
+        &self,
+        r4: &DiskRay4,
+        (first, count): (u32, u32),
+        t_min: f32,
+        t_max: f32,
+        mut hit: impl FnMut(u32, f32, f32),
+    ) {
+        let (mut s, end) = (first as usize, first as usize + count as usize);
+        while s < end {
+            // The disk array is padded, so four disks can be read from any slot.
+            let Some(packet) = self.disks[s..].first_chunk::<4>() else {
+                break;
+            };
+            let h = r4.test(packet, (end - s).min(4), t_min, t_max);
+            let mut m = h.mask;
+            while m != 0 {
+                let i = m.trailing_zeros() as usize;
+                m &= m - 1;
+                hit((s + i) as u32, h.t[i], h.d2[i]);
+            }
+            s += 4;
+        }
+    }
+
+    /// True if any disk is hit with `t_min < t < t_max`.
+    pub(super) fn any_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let r4 = DiskRay4::new(ray);
+        self.bvh.any_leaves(ray, t_min, t_max, |first, count| {
+            let mut any = false;
+            self.disk_leaf(&r4, (first, count), t_min, t_max, |_, _, _| any = true);
+            any
+        })
+    }
+
     /// Closest disk; ties in `t` go to the lowest particle index.
     #[inline]
     pub(super) fn closest_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<DiskHit> {
         let mut best: Option<DiskHit> = None;
-        self.bvh.closest(ray, t_min, t_max, |s, lim| {
-            let d = &self.disks[s as usize];
-            let hi = if best.is_some() { lim.next_up() } else { t_max };
-            if let Some((t, d2)) = intersect_disk(ray, d.center, d.normal, d.radius, t_min, hi)
-                && best.is_none_or(|(bs, bt, _)| t < bt || self.lower_particle(s, bs))
-            {
-                best = Some((s, t, d2));
-                *lim = t;
-            }
-        });
+        let r4 = DiskRay4::new(ray);
+        self.bvh
+            .closest_leaves(ray, t_min, t_max, |first, count, lim| {
+                let hi = if best.is_some() { lim.next_up() } else { t_max };
+                self.disk_leaf(&r4, (first, count), t_min, hi, |s, t, d2| {
+                    // Inclusive of the current closest `t` (ties), as `intersect_disk(.., hi)`.
+                    let hi = if best.is_some() { lim.next_up() } else { t_max };
+                    if t < hi && best.is_none_or(|(bs, bt, _)| t < bt || self.lower_particle(s, bs))
+                    {
+                        best = Some((s, t, d2));
+                        *lim = t;
+                    }
+                });
+            });
         best
     }
 
@@ -51,45 +94,53 @@ impl SplatGeometry {
         let mut cands = [(0u32, 0f32, 0f32); MAX_CANDIDATES];
         let mut nc = 0usize;
         let mut overflow = false;
-        self.bvh.closest(ray, t_min, t_max, |s, lim| {
-            let d = &self.disks[s as usize];
-            // Inclusive of `lim` (ties with the closest hit), exclusive of `t_max`.
-            let hi = if *lim < t_max { lim.next_up() } else { t_max };
-            let Some((t, d2)) = intersect_disk(ray, d.center, d.normal, d.radius, t_min, hi) else {
-                return;
-            };
-            let closer =
-                best.is_none_or(|(bs, bt, _)| t < bt || (t == bt && self.lower_particle(s, bs)));
-            let candidate = if closer {
-                *lim = (t + LIMIT_SLACK * self.blend.band(d.radius, d.normal.dot(ray.dir).abs()))
-                    .min(t_max);
-                min_lim = min_lim.min(*lim);
-                best.replace((s, t, d2))
-            } else {
-                Some((s, t, d2))
-            };
-            if let Some(c) = candidate {
-                if nc == MAX_CANDIDATES {
-                    // Drop candidates beyond the current band (if the band grows again later,
-                    // `min_lim` sends the query to the exact fallback).
-                    let keep = *lim;
-                    let mut k = 0;
-                    for i in 0..nc {
-                        if cands[i].1 <= keep {
-                            cands[k] = cands[i];
-                            k += 1;
+        let r4 = DiskRay4::new(ray);
+        // The packet test uses the query range (the band limit can grow within a leaf); the
+        // exact per-slot limit is applied below, as if each slot were tested on its own.
+        self.bvh
+            .closest_leaves(ray, t_min, t_max, |first, count, lim| {
+                self.disk_leaf(&r4, (first, count), t_min, t_max, |s, t, d2| {
+                    let d = &self.disks[s as usize];
+                    // Inclusive of `lim` (ties with the closest hit), exclusive of `t_max`.
+                    let hi = if *lim < t_max { lim.next_up() } else { t_max };
+                    if t >= hi {
+                        return;
+                    }
+                    let closer = best.is_none_or(|(bs, bt, _)| {
+                        t < bt || (t == bt && self.lower_particle(s, bs))
+                    });
+                    let candidate = if closer {
+                        *lim = (t + LIMIT_SLACK
+                            * self.blend.band(d.radius, d.normal.dot(ray.dir).abs()))
+                        .min(t_max);
+                        min_lim = min_lim.min(*lim);
+                        best.replace((s, t, d2))
+                    } else {
+                        Some((s, t, d2))
+                    };
+                    if let Some(c) = candidate {
+                        if nc == MAX_CANDIDATES {
+                            // Drop candidates beyond the current band (if the band grows again later,
+                            // `min_lim` sends the query to the exact fallback).
+                            let keep = *lim;
+                            let mut k = 0;
+                            for i in 0..nc {
+                                if cands[i].1 <= keep {
+                                    cands[k] = cands[i];
+                                    k += 1;
+                                }
+                            }
+                            nc = k;
+                        }
+                        if nc < MAX_CANDIDATES {
+                            cands[nc] = c;
+                            nc += 1;
+                        } else {
+                            overflow = true;
                         }
                     }
-                    nc = k;
-                }
-                if nc < MAX_CANDIDATES {
-                    cands[nc] = c;
-                    nc += 1;
-                } else {
-                    overflow = true;
-                }
-            }
-        });
+                });
+            });
         let (slot0, t0, d2) = best?;
         let d0 = &self.disks[slot0 as usize];
         let mut sum = LayerSum::new(

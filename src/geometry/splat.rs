@@ -3,7 +3,8 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::primitives::{disk_bounds, intersect_disk, intersect_sphere, sphere_bounds};
+use super::disk4::{PAD, PAD_DISK};
+use super::primitives::{disk_bounds, intersect_sphere, sphere_bounds};
 use super::{Aabb, Bvh, BvhParams, LayerBlend, Primitive, Ray};
 use crate::{Error, Result};
 
@@ -29,7 +30,7 @@ pub struct SurfaceHit {
     pub particle: u32,
 }
 
-/// A disk in slot order (32 bytes).
+/// A disk in slot order (32 bytes). The array is followed by [`PAD`] padding disks.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub(super) struct DiskPrim {
@@ -54,8 +55,10 @@ const BOUNDS_PAD: f32 = 1e-6;
 
 /// Particles as disks or spheres in a [`Bvh`], with disk-layer blending ([`LayerBlend`]).
 ///
-/// Memory: 32 bytes per disk (20 per sphere) plus the BVH (about 16 bytes of nodes and 4 of slot
-/// order per particle): ~52 bytes per disk, ~43 per sphere, see [`SplatGeometry::memory_bytes`]. Queries are `&self` and thread-safe.
+/// Memory: 32 bytes per disk (20 per sphere) plus the BVH (binary and 4-wide nodes and the slot
+/// order, ~44 bytes per particle): ~77 bytes per disk on a 1M-disk shell, see
+/// [`SplatGeometry::memory_bytes`]. Disk leaves are tested four disks at a time. Queries are
+/// `&self` and thread-safe.
 #[derive(Clone, Debug)]
 pub struct SplatGeometry {
     pub(super) primitive: Primitive,
@@ -172,18 +175,18 @@ impl SplatGeometry {
         let order = bvh.order();
         let (disks, spheres) = match primitive {
             Primitive::Disk => {
-                let disks = order
-                    .par_iter()
-                    .map(|&i| {
-                        let i = i as usize;
-                        DiskPrim {
-                            center: positions[i],
-                            radius: radii[i],
-                            normal: unit_normal(i),
-                            thickness: thickness_nm[i],
-                        }
-                    })
-                    .collect();
+                // Padded for the four-wide leaf test (see `disk4`).
+                let mut disks: Vec<DiskPrim> = Vec::with_capacity(n + PAD);
+                disks.par_extend(order.par_iter().map(|&i| {
+                    let i = i as usize;
+                    DiskPrim {
+                        center: positions[i],
+                        radius: radii[i],
+                        normal: unit_normal(i),
+                        thickness: thickness_nm[i],
+                    }
+                }));
+                disks.extend([PAD_DISK; PAD]);
                 (disks, Vec::new())
             }
             Primitive::Sphere => {
@@ -257,10 +260,7 @@ impl SplatGeometry {
             return false;
         }
         match self.primitive {
-            Primitive::Disk => self.bvh.any(ray, t_min, t_max, |s| {
-                let d = &self.disks[s as usize];
-                intersect_disk(ray, d.center, d.normal, d.radius, t_min, t_max).is_some()
-            }),
+            Primitive::Disk => self.any_disk(ray, t_min, t_max),
             Primitive::Sphere => self.bvh.any(ray, t_min, t_max, |s| {
                 let p = &self.spheres[s as usize];
                 intersect_sphere(ray, p.center, p.radius, t_min, t_max).is_some()

@@ -1,0 +1,88 @@
+//! Four ray–disk tests at once (SSE lanes via glam's `Vec4`), for the leaves of the disk BVH.
+//!
+//! The lanes evaluate exactly the operations of [`intersect_disk`](super::primitives::intersect_disk)
+//! in the same order (no fused multiply-add), so each lane's `t` and `d2` are bit-identical to
+//! the scalar test and hit/miss decisions agree with it.
+
+use glam::{Mat4, Vec4};
+
+use super::Ray;
+use super::primitives::DISK_PARALLEL_COS;
+use super::splat::DiskPrim;
+
+/// Disks the slot array is padded with, so a packet starting at any slot can read four: zero
+/// normal (parallel to every ray, never hit).
+pub(super) const PAD_DISK: DiskPrim = DiskPrim {
+    center: glam::Vec3::ZERO,
+    radius: 0.0,
+    normal: glam::Vec3::ZERO,
+    thickness: 0.0,
+};
+
+/// Number of [`PAD_DISK`]s after the last disk.
+pub(super) const PAD: usize = 3;
+
+/// A ray splatted into lanes.
+pub(super) struct DiskRay4 {
+    ox: Vec4,
+    oy: Vec4,
+    oz: Vec4,
+    dx: Vec4,
+    dy: Vec4,
+    dz: Vec4,
+}
+
+/// Hits of one packet: distances and squared distances to the centres per lane, and a bit mask
+/// (bit `i` for lane `i`) of the lanes that hit within the range.
+pub(super) struct Hits4 {
+    pub t: Vec4,
+    pub d2: Vec4,
+    pub mask: u32,
+}
+
+impl DiskRay4 {
+    /// Splats `ray` into lanes.
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> DiskRay4 {
+        let (o, d) = (ray.origin, ray.dir);
+        DiskRay4 {
+            ox: Vec4::splat(o.x),
+            oy: Vec4::splat(o.y),
+            oz: Vec4::splat(o.z),
+            dx: Vec4::splat(d.x),
+            dy: Vec4::splat(d.y),
+            dz: Vec4::splat(d.z),
+        }
+    }
+
+    /// Tests the disks `disks[0..4]` against the ray for `t_min < t < t_max`; lanes at or beyond
+    /// `lanes` are masked off. Cost: one 4-lane division and ~30 lane operations.
+    #[inline(always)]
+    pub fn test(&self, disks: &[DiskPrim; 4], lanes: usize, t_min: f32, t_max: f32) -> Hits4 {
+        let cr = |d: &DiskPrim| Vec4::new(d.center.x, d.center.y, d.center.z, d.radius);
+        let nt = |d: &DiskPrim| Vec4::new(d.normal.x, d.normal.y, d.normal.z, 0.0);
+        let c =
+            Mat4::from_cols(cr(&disks[0]), cr(&disks[1]), cr(&disks[2]), cr(&disks[3])).transpose();
+        let n =
+            Mat4::from_cols(nt(&disks[0]), nt(&disks[1]), nt(&disks[2]), nt(&disks[3])).transpose();
+        let (nx, ny, nz) = (n.x_axis, n.y_axis, n.z_axis);
+        // Same expression order as `intersect_disk`.
+        let denom = nx * self.dx + ny * self.dy + nz * self.dz;
+        let ocx = c.x_axis - self.ox;
+        let ocy = c.y_axis - self.oy;
+        let ocz = c.z_axis - self.oz;
+        let t = (nx * ocx + ny * ocy + nz * ocz) / denom;
+        let (px, py, pz) = (t * self.dx - ocx, t * self.dy - ocy, t * self.dz - ocz);
+        let d2 = px * px + py * py + pz * pz;
+        let r = c.w_axis;
+        let ok = denom.abs().cmpgt(Vec4::splat(DISK_PARALLEL_COS))
+            & t.cmpgt(Vec4::splat(t_min))
+            & t.cmplt(Vec4::splat(t_max))
+            & d2.cmple(r * r);
+        Hits4 {
+            t,
+            d2,
+            mask: ok.bitmask() & ((1u32 << lanes) - 1),
+        }
+    }
+}
