@@ -25,6 +25,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "samples",
             "geometry",
             "render",
+            "figure",
             "spectrum",
             "optics",
             "image",
