@@ -69,6 +69,10 @@ pub struct RenderArgs {
     /// applied once per disk and colours jump at splat rims).
     #[arg(long)]
     no_blend: bool,
+    /// Flat disks: skip the curvature estimate that tilts each disk's normal with the film's
+    /// curvature (faster set-up; curved films then show faceted reflections).
+    #[arg(long)]
+    flat_splats: bool,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
     #[arg(long)]
     env: Option<String>,
@@ -166,6 +170,9 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.render.view, a.view);
     if a.repair {
         d.input.repair = Some(true);
+    }
+    if a.flat_splats {
+        d.film.curvature = Some(false);
     }
     if a.no_blend {
         d.film.blend = Some(false);

@@ -145,8 +145,8 @@ impl SplatGeometry {
         let d0 = &self.disks[slot0 as usize];
         let mut sum = LayerSum::new(
             t0,
-            d0.normal,
-            d0.thickness,
+            self.disk_normal_at(slot0, ray.at(t0)),
+            self.disk_thickness_at(slot0, ray.at(t0)),
             order[slot0 as usize],
             kernel(d2, d0.radius * d0.radius),
         );
@@ -158,8 +158,8 @@ impl SplatGeometry {
             if d.normal.dot(d0.normal).abs() > min_dot {
                 sum.add(
                     t,
-                    d.normal,
-                    d.thickness,
+                    self.disk_normal_at(s, ray.at(t)),
+                    self.disk_thickness_at(s, ray.at(t)),
                     order[s as usize],
                     kernel(d2, d.radius * d.radius),
                 );

@@ -14,6 +14,8 @@ use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
+use crate::pointcloud::curvature::{curvature_from_table, gradient_from_table};
+use crate::pointcloud::knn::KnnTable;
 use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, repair, validate};
 use crate::render::{
     Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode,
@@ -26,6 +28,9 @@ use crate::{Error, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+/// Neighbours used to estimate each disk's curvature and thickness gradient.
+const DETAIL_NEIGHBOURS: usize = 12;
 
 /// Everything ready to render, plus what it cost to get here.
 #[derive(Debug)]
@@ -257,6 +262,17 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
     if desc.film.blend == Some(false) {
         geometry.set_layer_blend(LayerBlend::NONE);
+    }
+    if primitive == Primitive::Disk && desc.film.curvature != Some(false) {
+        // First-order splats: normals tilt with the curvature, thickness follows its gradient.
+        let table = KnnTable::build(&cloud.positions, DETAIL_NEIGHBOURS);
+        geometry.set_curvature(&curvature_from_table(&cloud.positions, normals, &table))?;
+        geometry.set_thickness_gradient(&gradient_from_table(
+            &cloud.positions,
+            normals,
+            thickness,
+            &table,
+        ))?;
     }
     let build_time = t2.elapsed();
 

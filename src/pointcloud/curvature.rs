@@ -43,6 +43,50 @@ pub fn curvature_from_table(positions: &[Vec3], normals: &[Vec3], table: &KnnTab
         .collect()
 }
 
+/// Gradient of an attribute (e.g. film thickness) in each particle's tangent plane, by least
+/// squares over the k nearest neighbours on the same sheet (normals within 60°):
+/// `a_j − a_i ≈ g · (c_j − c_i)` with `g ⟂ n_i`. Splats that carry `a_i + g_i·(p − c_i)`
+/// instead of a constant reproduce linear fields exactly when blended, where a weighted mean
+/// of constants (Shepard interpolation) leaves bumps at every splat centre — visible as a fine
+/// texture wherever colour changes fast with thickness. Degenerate neighbourhoods get 0.
+pub fn gradient_from_table(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    values: &[f32],
+    table: &KnnTable,
+) -> Vec<Vec3> {
+    (0..positions.len())
+        .into_par_iter()
+        .map(|i| {
+            let (ci, ni) = (positions[i], normals[i]);
+            let (t1, t2) = ni.any_orthonormal_pair();
+            let (mut saa, mut sab, mut sbb, mut sa, mut sb) = (0.0f32, 0.0, 0.0, 0.0, 0.0);
+            for (j, _) in table.row(i) {
+                let j = j as usize;
+                if normals[j].dot(ni).abs() < 0.5 {
+                    continue;
+                }
+                let d = positions[j] - ci;
+                let (a, b) = (d.dot(t1), d.dot(t2));
+                let dv = values[j] - values[i];
+                saa += a * a;
+                sab += a * b;
+                sbb += b * b;
+                sa += a * dv;
+                sb += b * dv;
+            }
+            let det = saa * sbb - sab * sab;
+            if !(det > 1e-12 * (saa + sbb) * (saa + sbb)) {
+                return Vec3::ZERO;
+            }
+            let ga = (sa * sbb - sb * sab) / det;
+            let gb = (sb * saa - sa * sab) / det;
+            let g = ga * t1 + gb * t2;
+            if g.is_finite() { g } else { Vec3::ZERO }
+        })
+        .collect()
+}
+
 /// Normal curvature per particle; builds its own kNN table (k neighbours, 8–16 is right).
 pub fn estimate_curvature(positions: &[Vec3], normals: &[Vec3], k: usize) -> Vec<f32> {
     let table = KnnTable::build(positions, k.max(2));
@@ -76,6 +120,35 @@ mod tests {
         let inward: Vec<Vec3> = out.iter().map(|n| -*n).collect();
         let k = estimate_curvature(&p, &inward, 12);
         assert!(k.iter().all(|v| (v + 0.5).abs() < 0.02));
+    }
+
+    #[test]
+    fn gradients_of_linear_fields_are_exact() {
+        let p = fibonacci(3000, 1.0);
+        let n: Vec<Vec3> = p.iter().map(|q| q.normalize()).collect();
+        // On a plane: a = 3x − 2z exactly.
+        let plane: Vec<Vec3> = (0..900)
+            .map(|i| {
+                Vec3::new(
+                    (i % 30) as f32 * 0.1,
+                    0.0,
+                    (i / 30) as f32 * 0.1 + 0.013 * (i % 7) as f32,
+                )
+            })
+            .collect();
+        let a: Vec<f32> = plane.iter().map(|q| 3.0 * q.x - 2.0 * q.z).collect();
+        let table = KnnTable::build(&plane, 8);
+        for g in gradient_from_table(&plane, &vec![Vec3::Y; 900], &a, &table) {
+            assert!((g - Vec3::new(3.0, 0.0, -2.0)).length() < 1e-3, "{g}");
+        }
+        // On a sphere, a = y: the tangential gradient is e_y minus its normal part.
+        let a: Vec<f32> = p.iter().map(|q| q.y).collect();
+        let table = KnnTable::build(&p, 12);
+        let g = gradient_from_table(&p, &n, &a, &table);
+        for (gi, ni) in g.iter().zip(&n) {
+            let want = Vec3::Y - ni.y * *ni;
+            assert!((*gi - want).length() < 0.05, "{gi} vs {want}");
+        }
     }
 
     #[test]
