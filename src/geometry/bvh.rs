@@ -81,7 +81,7 @@ pub(crate) const STACK_SIZE: usize = 96;
 
 /// A flattened BVH (see the module docs). Memory: 32 bytes per binary node (about
 /// `2n / leaf size` nodes), 128 bytes per 4-wide node (about a third as many) and 4 bytes per
-/// primitive for the slot order: ~44 bytes per primitive at 4 primitives per leaf.
+/// primitive for the slot order: ~30 bytes per primitive at 6 primitives per leaf.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     pub(crate) nodes: Vec<BvhNode>,
