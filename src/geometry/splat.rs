@@ -56,7 +56,7 @@ const BOUNDS_PAD: f32 = 1e-6;
 /// Particles as disks or spheres in a [`Bvh`], with disk-layer blending ([`LayerBlend`]).
 ///
 /// Memory: 32 bytes per disk (20 per sphere) plus the BVH (binary and 4-wide nodes and the slot
-/// order, ~44 bytes per particle): ~77 bytes per disk on a 1M-disk shell, see
+/// order, ~30 bytes per particle): ~62 bytes per disk on a 1M-disk shell, see
 /// [`SplatGeometry::memory_bytes`]. Disk leaves are tested four disks at a time. Queries are
 /// `&self` and thread-safe.
 #[derive(Clone, Debug)]

@@ -175,29 +175,33 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
                     cur = lane(first);
                     continue;
                 }
-                // Two to four hits: sort by entry distance, descend into the nearest, push the
+                // Two to four hits: sort the lanes by entry distance with a branch-free network
+                // on (monotonic distance bits, lane) keys, descend into the nearest and push the
                 // others farthest first.
-                let mut hits = [Entry::default(); 4];
-                let mut nh = 0;
-                let mut m = mask;
-                while m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    let e = lane(i);
-                    let mut k = nh;
-                    while k > 0 && hits[k - 1].t < e.t {
-                        hits[k] = hits[k - 1];
-                        k -= 1;
-                    }
-                    hits[k] = e;
-                    nh += 1;
-                }
-                // `hits` is sorted by decreasing distance.
-                for &e in &hits[..nh - 1] {
-                    stack[sp] = e;
+                let key = |i: usize| {
+                    let b = tn[i].to_bits();
+                    let flip = ((b as i32) >> 31) as u32 | 0x8000_0000;
+                    let k = (((b ^ flip) as u64) << 32) | i as u64;
+                    if mask & (1 << i) != 0 { k } else { u64::MAX }
+                };
+                let (mut k0, mut k1, mut k2, mut k3) = (key(0), key(1), key(2), key(3));
+                let cx = |a: &mut u64, b: &mut u64| {
+                    let (lo, hi) = ((*a).min(*b), (*a).max(*b));
+                    *a = lo;
+                    *b = hi;
+                };
+                cx(&mut k0, &mut k1);
+                cx(&mut k2, &mut k3);
+                cx(&mut k0, &mut k2);
+                cx(&mut k1, &mut k3);
+                cx(&mut k1, &mut k2);
+                let sorted = [k0, k1, k2, k3];
+                let nh = mask.count_ones() as usize;
+                for &k in sorted[1..nh].iter().rev() {
+                    stack[sp] = lane((k & 3) as usize);
                     sp += 1;
                 }
-                cur = hits[nh - 1];
+                cur = lane((k0 & 3) as usize);
                 continue;
             }
         }
