@@ -60,9 +60,9 @@ fn main() {
     );
 
     println!(
-        "\n| primitive | tree build | memory/particle | primary rays | render {w}×{h}, {spp} spp | rays in render |"
+        "\n| primitive | tree build | first-order detail | memory/particle | primary rays | render {w}×{h}, {spp} spp | rays in render |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     let shader = FilmShader::new(1.33, ShadingMode::Lut, 16, WavelengthStrategy::Jittered);
     for prim in [Primitive::Disk, Primitive::Sphere] {
         let radii: Vec<f32> = match prim {
