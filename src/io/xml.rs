@@ -1,0 +1,1 @@
+//! Tiny XML scanner (not written yet).
