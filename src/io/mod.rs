@@ -29,6 +29,7 @@ pub mod bgeo;
 mod columns;
 pub mod csv;
 pub mod frame_folder;
+mod num;
 pub mod ply;
 pub mod vtk;
 pub mod vtu;
