@@ -213,6 +213,16 @@ fn malformed_files() {
         assert!(e.contains(want), "case {i}: {e}");
     }
     assert!(err(&write(&d, "empty.bgeo", b"")).contains("empty"));
+    // Gzip holding something else than BGEO.
+    let e = read_cloud(
+        &write(&d, "c.ply.gz", &gz(b"ply\nformat ascii 1.0\n")),
+        &ReadOptions::default(),
+    );
+    let e = e.unwrap_err().to_string();
+    assert!(
+        e.contains("gzip-compressed PLY") && e.contains("c.ply.gz"),
+        "{e}"
+    );
     let p = write(&d, "ok.bgeo", &good);
     let o = ReadOptions {
         thickness_attr: Some("rh".into()),
@@ -233,6 +243,15 @@ fn every_truncation_is_an_error() {
             e.contains("runs out") || e.contains("empty") || e.contains("cannot fit"),
             "{len}: {e}"
         );
+    }
+    for i in 0..full.len() {
+        for x in [0x01, 0x80, 0xff] {
+            let mut b = full.clone();
+            b[i] ^= x;
+            if let Err(e) = read_cloud(&write(&d, "f.bgeo", &b), &ReadOptions::default()) {
+                assert!(e.to_string().contains("f.bgeo"));
+            }
+        }
     }
     let z = gz(&full);
     for len in 0..z.len() {

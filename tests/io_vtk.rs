@@ -242,6 +242,9 @@ fn malformed_files() {
             assert!(e.contains("VTK legacy"), "case {i}: {e}");
         }
     }
+    // Ends right after a header line without a newline.
+    let t = "# vtk DataFile Version 3.0\nt\nBINARY\nDATASET POLYDATA\nPOINTS 0 float";
+    assert!(read(&write(&d, "nonl.vtk", t.as_bytes())).is_empty());
     let p = write(&d, "empty.vtk", b"");
     assert!(err(&p).contains("empty"));
     // Missing explicit attribute.
@@ -273,6 +276,17 @@ fn every_truncation_is_an_error_or_a_prefix() {
                 }
                 // Cutting at a section boundary leaves a valid, shorter file.
                 Ok(c) => assert!(c.len() == 3 || c.is_empty(), "{len}"),
+            }
+        }
+    }
+    // Byte flips anywhere: an error or a cloud, never a panic.
+    let full = binary_file();
+    for i in 0..full.len() {
+        for x in [0x01, 0x20, 0xff] {
+            let mut b = full.clone();
+            b[i] ^= x;
+            if let Err(e) = read_cloud(&write(&d, "f.vtk", &b), &ReadOptions::default()) {
+                assert!(e.to_string().contains("f.vtk"));
             }
         }
     }

@@ -219,8 +219,15 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
         let _ = flate2::read::GzDecoder::new(file)
             .take(16)
             .read_to_end(&mut inner);
-        if let Some(f) = sniff(&inner) {
-            return Ok(f);
+        match sniff(&inner) {
+            Some(CloudFormat::Bgeo) => return Ok(CloudFormat::Bgeo),
+            Some(f) => {
+                return Err(unknown(format!(
+                    "gzip-compressed {} is not supported (only BGEO); decompress it first",
+                    f.name()
+                )));
+            }
+            None => {}
         }
     }
     let name = path

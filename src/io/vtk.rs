@@ -79,7 +79,7 @@ impl<'a> Cur<'a> {
         let start = self.pos;
         let rest = &self.b[start..];
         let len = rest.iter().position(|&c| c == b'\n').unwrap_or(rest.len());
-        self.pos = start + len + 1;
+        self.pos = (start + len + 1).min(self.b.len());
         let text = std::str::from_utf8(&rest[..len]).unwrap_or("\u{fffd}");
         Some((start, text.trim_end()))
     }
