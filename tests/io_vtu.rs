@@ -281,6 +281,9 @@ fn real_splashsurf_files() {
         idx.sort_by(f32::total_cmp);
         assert_eq!(idx, (1..=250).map(|i| i as f32).collect::<Vec<_>>());
     }
+    // Both files hold the same particles.
+    assert_eq!(z.positions, e.positions);
+    assert_eq!(z.extra("density"), e.extra("density"));
     // The base64 file's recorded ranges hold: density 520.79..1021.46.
     let dens = e.extra("density").unwrap();
     let (lo, hi) = dens
