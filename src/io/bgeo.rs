@@ -223,7 +223,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         for rec in body.chunks_exact(stride) {
             a.ty.decode(&rec[o..e], true, &mut v);
         }
-        cols.push(&a.name, a.size, &v);
+        cols.push(&a.name, a.size, std::mem::take(&mut v));
     }
     Ok(cols)
 }

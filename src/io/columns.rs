@@ -61,10 +61,10 @@ pub(crate) fn show(text: &str) -> String {
 
 impl Columns {
     /// Adds a `k`-component attribute stored tuple by tuple in `data` (`data.len()` = k × n),
-    /// split into scalar columns named by [`component_names`].
-    pub fn push(&mut self, name: &str, k: usize, data: &[f32]) {
+    /// split into scalar columns named by [`component_names`] (a scalar is moved, not copied).
+    pub fn push(&mut self, name: &str, k: usize, data: Vec<f32>) {
         if k == 1 {
-            self.scalars.push((name.to_string(), data.to_vec()));
+            self.scalars.push((name.to_string(), data));
             return;
         }
         for (c, col) in component_names(name, k).into_iter().enumerate() {
@@ -211,11 +211,11 @@ mod tests {
             positions: vec![Vec3::ZERO, Vec3::ONE],
             scalars: Vec::new(),
         };
-        c.push("v", 3, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
-        c.push("N", 3, &[0.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
-        c.push("rh", 1, &[1.0, 2.0]);
-        c.push("pscale", 1, &[0.5, 0.25]);
-        c.push("q", 2, &[1.0, 2.0, 3.0, 4.0]);
+        c.push("v", 3, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        c.push("N", 3, vec![0.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
+        c.push("rh", 1, vec![1.0, 2.0]);
+        c.push("pscale", 1, vec![0.5, 0.25]);
+        c.push("q", 2, vec![1.0, 2.0, 3.0, 4.0]);
         c
     }
 

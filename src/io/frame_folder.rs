@@ -96,7 +96,21 @@ pub fn read(dir: &Path, opts: &ReadOptions) -> Result<PointCloud> {
                 format!("count {} disagrees with x_bin's {n} particles", v.len() / k),
             ));
         }
-        cols.push(&attr, k, &v);
+        let normal_name = match &opts.normal_attr {
+            Some(p) => *p == attr,
+            None => FRAME_NORMAL_ALIASES.contains(&attr.as_str()),
+        };
+        if normal_name && k == 1 && n > 0 {
+            return Err(format_error(
+                &p,
+                FORMAT,
+                format!(
+                    "holds {n} scalars, but '{attr}' names normals (3 values per particle); \
+                     a vector file cut to 4 + 8n bytes looks like this"
+                ),
+            ));
+        }
+        cols.push(&attr, k, v);
     }
     cols.into_cloud(opts, &ALIASES)
         .map_err(|m| format_error(dir, FORMAT, m))

@@ -391,7 +391,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
                     }
                     let v = c.values(t, tuples.saturating_mul(k), keep, &aname)?;
                     if keep {
-                        cols.push(&aname, k as usize, &v);
+                        cols.push(&aname, k as usize, v);
                     }
                     let _ = c.line_if("METADATA").map(|_| {
                         while let Some((_, l)) = c.raw_line() {
@@ -415,7 +415,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
             let keep = section == Section::Point;
             let v = c.values(t, tuples.saturating_mul(k), keep, &aname)?;
             if keep {
-                cols.push(&aname, k as usize, &v);
+                cols.push(&aname, k as usize, v);
             }
         }
     }

@@ -240,7 +240,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         }
     }
     for (name, k, v) in data {
-        cols.push(&name, k as usize, &v);
+        cols.push(&name, k as usize, v);
     }
     Ok(cols)
 }
