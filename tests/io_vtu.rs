@@ -250,6 +250,38 @@ fn every_encoding_reads_the_same_cloud() {
     }
 }
 
+#[test]
+fn pieces_are_concatenated() {
+    let d = tmp("vtu_pieces");
+    let one = String::from_utf8(vtu(modes()[0])).unwrap();
+    let (a, rest) = one.split_at(one.find("<Piece").unwrap());
+    let end = rest.find("</Piece>").unwrap() + "</Piece>".len();
+    let piece = &rest[..end];
+    let two = format!(
+        "{a}{piece}\n{}{}",
+        piece.replace("100 200 300", "400 500 600"),
+        &rest[end..]
+    );
+    let c = read(&write(&d, "two.vtu", two.as_bytes()));
+    assert_eq!(c.len(), 6);
+    assert_eq!(c.positions[3], Vec3::ZERO);
+    assert_eq!(
+        c.thickness_nm.as_deref().unwrap(),
+        [100.0, 200.0, 300.0, 400.0, 500.0, 600.0]
+    );
+    let bad = format!(
+        "{a}{piece}\n{}{}",
+        piece.replace("Name=\"id\"", "Name=\"ident\""),
+        &rest[end..]
+    );
+    let e = read_cloud(
+        &write(&d, "bad.vtu", bad.as_bytes()),
+        &ReadOptions::default(),
+    );
+    let e = e.unwrap_err().to_string();
+    assert!(e.contains("Piece 1") && e.contains("'ident'"), "{e}");
+}
+
 fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
