@@ -31,6 +31,7 @@ pub mod csv;
 pub mod frame_folder;
 mod num;
 pub mod ply;
+mod sources;
 pub mod vtk;
 pub mod vtu;
 mod write_ply;
