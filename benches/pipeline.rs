@@ -91,8 +91,15 @@ fn main() {
         if prim == Primitive::Disk {
             let normals = cloud.normals.as_ref().unwrap();
             let table = KnnTable::build(&cloud.positions, 12);
-            geometry.set_curvature(&curvature_from_table(&cloud.positions, normals, &table)).unwrap();
-            let grad = gradient_from_table(&cloud.positions, normals, cloud.thickness_nm.as_ref().unwrap(), &table);
+            geometry
+                .set_curvature(&curvature_from_table(&cloud.positions, normals, &table))
+                .unwrap();
+            let grad = gradient_from_table(
+                &cloud.positions,
+                normals,
+                cloud.thickness_nm.as_ref().unwrap(),
+                &table,
+            );
             geometry.set_thickness_gradient(&grad).unwrap();
         }
         let detail = t.elapsed().as_secs_f64();
@@ -143,7 +150,11 @@ fn main() {
         let secs = t.elapsed().as_secs_f64();
         println!(
             "| {prim} | {build:.3} s | {} | {bytes_per:.0} B | {primary:.2} M/s ({:.0}% hit) | {secs:.1} s | {:.2} M/s |",
-            if prim == Primitive::Disk { format!("{detail:.2} s") } else { "—".to_string() },
+            if prim == Primitive::Disk {
+                format!("{detail:.2} s")
+            } else {
+                "—".to_string()
+            },
             100.0 * hits as f64 / (w * h) as f64,
             out.rays as f64 / secs / 1e6
         );

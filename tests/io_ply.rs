@@ -89,6 +89,7 @@ fn double_positions_and_thickness_scale() {
         let p = write(&dir, &format!("{f}.ply"), &ply(f, header, &recs));
         let opts = ReadOptions {
             thickness_scale_to_nm: 1e9,
+            thickness_unit_explicit: true,
             ..Default::default()
         };
         let c = read_cloud(&p, &opts).unwrap();
@@ -186,6 +187,7 @@ fn attribute_names_aliases_and_overrides() {
     let opts = ReadOptions {
         thickness_attr: Some("my_t".into()),
         thickness_scale_to_nm: 1e3,
+        thickness_unit_explicit: true,
         normal_attr: Some("normal".into()),
         radius_attr: Some("h".into()),
     };
@@ -258,12 +260,12 @@ fn dispatch_by_magic_then_extension() {
         "magic wins"
     );
     let e = read_cloud(
-        &write(&dir, "cloud.xyz", b"1 2 3\n"),
+        &write(&dir, "cloud.dat2", b"1 2 3\n"),
         &ReadOptions::default(),
     )
     .unwrap_err();
     assert!(
-        e.to_string().contains("cloud.xyz") && e.to_string().contains("unrecognised"),
+        e.to_string().contains("cloud.dat2") && e.to_string().contains("unrecognised"),
         "{e}"
     );
     let e = read_cloud(

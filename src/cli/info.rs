@@ -14,9 +14,10 @@ use std::path::PathBuf;
 pub struct InfoArgs {
     /// The particle file.
     input: PathBuf,
-    /// Unit of the file's thickness values: nm, um, mm or m.
-    #[arg(long, default_value = "nm")]
-    thickness_unit: String,
+    /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
+    /// frame folders, nm otherwise).
+    #[arg(long)]
+    thickness_unit: Option<String>,
     /// Name of the thickness attribute.
     #[arg(long)]
     thickness_attr: Option<String>,
@@ -24,11 +25,14 @@ pub struct InfoArgs {
 
 /// Runs `filmsplat info`.
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
-    let opts = ReadOptions {
-        thickness_scale_to_nm: thickness_unit_factor(&a.thickness_unit)?,
+    let mut opts = ReadOptions {
         thickness_attr: a.thickness_attr.clone(),
         ..ReadOptions::default()
     };
+    if let Some(unit) = &a.thickness_unit {
+        opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
+        opts.thickness_unit_explicit = true;
+    }
     let cloud = read_cloud(&a.input, &opts)?;
     let stats = compute_stats(&cloud);
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));

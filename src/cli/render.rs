@@ -13,7 +13,8 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 #[command(after_help = attribute_help())]
 pub struct RenderArgs {
-    /// A particle cloud (.ply) or a scene file (.toml).
+    /// A particle file (.ply, .vtk, .vtu, .bgeo[.gz], .csv/.xyz), a frame folder of the
+    /// thin-film SPH code (x_bin, norm_bin, rh_bin, ...), or a scene file (.toml).
     input: PathBuf,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
     /// hit-count layers). Default: the scene file's output.path, else render.png.
@@ -50,7 +51,8 @@ pub struct RenderArgs {
     /// Film index of refraction (default 1.33).
     #[arg(long)]
     ior: Option<f32>,
-    /// Unit of the file's thickness values: nm, um, mm or m (default nm).
+    /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
+    /// the thin-film SPH code's frame folders, nm otherwise).
     #[arg(long)]
     thickness_unit: Option<String>,
     /// Extra factor on thickness after the unit conversion.

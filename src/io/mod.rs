@@ -1,15 +1,41 @@
 //! Readers: particle files in, [`PointCloud`] out.
 //!
-//! [`read_cloud`] picks the reader from the file's first bytes (magic) or else its extension.
-//! Only PLY exists today ([`ply`]); new formats add a [`CloudFormat`] variant and a match arm.
+//! [`read_cloud`] picks the reader ([`detect_format`]) from the file's first bytes (magic),
+//! else its extension, or for a directory its content, and every reader fills the same
+//! [`PointCloud`]:
 //!
-//! Attribute names: positions are always `x y z`. Normals, thickness and radius are found by
-//! the first present name in [`NORMAL_ALIASES`], [`THICKNESS_ALIASES`] and [`RADIUS_ALIASES`],
-//! unless [`ReadOptions`] names them explicitly (then a missing name is an error). Every other
-//! scalar attribute lands in [`PointCloud::extra`]. Readers do not validate values.
+//! | format | reader | thickness unit by default |
+//! |---|---|---|
+//! | PLY (ASCII, binary LE/BE) | [`ply::read`] | nm |
+//! | VTK legacy `.vtk` (ASCII, binary) | [`vtk::read`] | nm |
+//! | VTK XML `.vtu`/`.vtp` (ascii, base64, appended raw/base64, zlib) | [`vtu::read`] | nm |
+//! | Houdini BGEO V5 `.bgeo` (plain or gzip) | [`bgeo::read`] | nm |
+//! | CSV / XYZ text with a header line | [`csv::read`] | nm |
+//! | thin-film SPH frame folder (`x_bin`, `norm_bin`, `rh_bin`, ...) | [`frame_folder::read`] | m |
+//!
+//! Attribute names: positions are the format's positions (`x y z`, `POINTS`, `P`, `x_bin`).
+//! Vector attributes become the scalar attributes `name_x name_y name_z` (other component
+//! counts `name_0 ..`). Normals, thickness and radius are found by the first present name in
+//! the format's alias lists ([`NORMAL_ALIASES`], [`THICKNESS_ALIASES`], [`RADIUS_ALIASES`];
+//! frame folders use [`FRAME_NORMAL_ALIASES`] and [`FRAME_THICKNESS_ALIASES`]), unless
+//! [`ReadOptions`] names them explicitly (then a missing name is an error). Every other
+//! scalar attribute lands in [`PointCloud::extra`] as f32. Readers do not validate values.
+//!
+//! Every reader checks counts against the file size before allocating and returns
+//! [`Error::Format`] naming the file, the format and the problem (with the line or byte offset
+//! where it applies); none panics on malformed input.
 
+pub mod bgeo;
+mod columns;
+pub mod csv;
+pub mod frame_folder;
+mod num;
 pub mod ply;
+mod sources;
+pub mod vtk;
+pub mod vtu;
 mod write_ply;
+mod xml;
 
 pub use write_ply::write_ply;
 
@@ -25,8 +51,15 @@ use crate::pointcloud::PointCloud;
 pub const THICKNESS_ALIASES: &[&str] = &["rh", "thickness", "h"];
 
 /// Normal attribute prefixes tried in order; a prefix `p` means the three attributes `px py pz`
-/// or `p_x p_y p_z`: `n` → `nx ny nz`, `normal` → `normal_x normal_y normal_z`.
-pub const NORMAL_ALIASES: &[&str] = &["n", "normal"];
+/// or `p_x p_y p_z`: `n` → `nx ny nz`, `normal` → `normal_x normal_y normal_z`,
+/// `normals`/`Normals` (VTK) and `N` (Houdini) → `N_x N_y N_z` (vectors are split that way).
+pub const NORMAL_ALIASES: &[&str] = &["n", "normal", "normals", "Normals", "N"];
+
+/// Thickness names tried in a frame folder (`rh_bin`, then `h_bin`).
+pub const FRAME_THICKNESS_ALIASES: &[&str] = &["rh", "h"];
+
+/// Normal names tried in a frame folder: `norm` (`norm_bin`), then [`NORMAL_ALIASES`].
+pub const FRAME_NORMAL_ALIASES: &[&str] = &["norm", "n", "normal", "normals", "Normals", "N"];
 
 /// Radius attribute names tried in order: `radius`, `pscale` (Houdini's per-point scale).
 pub const RADIUS_ALIASES: &[&str] = &["radius", "pscale"];
@@ -35,8 +68,13 @@ pub const RADIUS_ALIASES: &[&str] = &["radius", "pscale"];
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReadOptions {
     /// Factor turning the file's thickness values into nanometres: 1 for nm, 1e3 for µm,
-    /// 1e9 for m. Must be finite and positive. Default 1.
+    /// 1e9 for m. Must be finite and positive. Default 1. Used only if
+    /// [`Self::thickness_unit_explicit`] is true.
     pub thickness_scale_to_nm: f64,
+    /// True: the file's thickness is in the unit given by [`Self::thickness_scale_to_nm`].
+    /// False (default): the format's own unit is used and the scale is ignored: metres for a
+    /// frame folder (scale 1e9), nanometres for every other format.
+    pub thickness_unit_explicit: bool,
     /// Thickness attribute name; `None` tries [`THICKNESS_ALIASES`].
     pub thickness_attr: Option<String>,
     /// Normal attribute prefix (`"n"` → `nx ny nz`, `"normal"` → `normal_x ..`); `None` tries
@@ -50,6 +88,7 @@ impl Default for ReadOptions {
     fn default() -> Self {
         ReadOptions {
             thickness_scale_to_nm: 1.0,
+            thickness_unit_explicit: false,
             thickness_attr: None,
             normal_attr: None,
             radius_attr: None,
@@ -58,6 +97,26 @@ impl Default for ReadOptions {
 }
 
 impl ReadOptions {
+    /// Options for thickness in the unit `scale_to_nm` (nm per file unit), overriding the
+    /// format's default unit; other fields default.
+    pub fn with_thickness_scale(scale_to_nm: f64) -> Self {
+        ReadOptions {
+            thickness_scale_to_nm: scale_to_nm,
+            thickness_unit_explicit: true,
+            ..ReadOptions::default()
+        }
+    }
+
+    /// The factor to apply to a format whose default unit is `format_default_to_nm` nm:
+    /// [`Self::thickness_scale_to_nm`] if the unit is explicit, else the format's default.
+    pub fn thickness_scale(&self, format_default_to_nm: f64) -> f64 {
+        if self.thickness_unit_explicit {
+            self.thickness_scale_to_nm
+        } else {
+            format_default_to_nm
+        }
+    }
+
     /// Checks the options themselves (not the file).
     ///
     /// # Errors
@@ -79,6 +138,17 @@ impl ReadOptions {
 pub enum CloudFormat {
     /// Stanford PLY (ASCII or binary), read by [`ply::read`].
     Ply,
+    /// VTK legacy `.vtk` (ASCII or binary), read by [`vtk::read`].
+    VtkLegacy,
+    /// VTK XML `.vtu` / `.vtp`, read by [`vtu::read`].
+    VtkXml,
+    /// Houdini classic BGEO (V5), plain or gzip-compressed, read by [`bgeo::read`].
+    Bgeo,
+    /// Delimited text with a header line naming the columns, read by [`csv::read`].
+    Csv,
+    /// A directory of `*_bin` files (`x_bin`, `norm_bin`, `rh_bin`, ...), read by
+    /// [`frame_folder::read`].
+    FrameFolder,
 }
 
 impl CloudFormat {
@@ -86,57 +156,136 @@ impl CloudFormat {
     pub fn name(self) -> &'static str {
         match self {
             CloudFormat::Ply => "PLY",
+            CloudFormat::VtkLegacy => "VTK legacy",
+            CloudFormat::VtkXml => "VTK XML",
+            CloudFormat::Bgeo => "BGEO",
+            CloudFormat::Csv => "CSV",
+            CloudFormat::FrameFolder => "frame folder",
         }
     }
 }
 
-/// Decides a file's format from its first bytes, else from its extension (case-insensitive).
+/// The format named by a file's first bytes, if any. `gzip` is the first bytes of the
+/// decompressed content when the file is gzip-compressed.
+fn sniff(head: &[u8]) -> Option<CloudFormat> {
+    if head.starts_with(b"ply\n") || head.starts_with(b"ply\r") {
+        Some(CloudFormat::Ply)
+    } else if head.starts_with(b"# vtk DataFile") {
+        Some(CloudFormat::VtkLegacy)
+    } else if head.starts_with(b"Bgeo") || head.starts_with(b"\x7fNSJ") {
+        Some(CloudFormat::Bgeo)
+    } else if head.starts_with(b"<?xml") || head.starts_with(b"<VTKFile") {
+        Some(CloudFormat::VtkXml)
+    } else {
+        None
+    }
+}
+
+/// Decides a file's format: a directory holding `x_bin` is a frame folder; a file is decided
+/// by its first bytes (for gzip, the decompressed first bytes), else by its extension
+/// (case-insensitive: ply, vtk, vtu, vtp, bgeo, bgeo.gz, csv, tsv, xyz, txt).
 ///
-/// Cost: opens the file and reads at most 16 bytes.
+/// Cost: opens the file and reads (and, for gzip, inflates) at most a few hundred bytes.
 ///
 /// # Errors
-/// [`Error::Io`] if the path cannot be opened or is a directory; [`Error::Format`] if neither
-/// the content nor the extension is a known format.
+/// [`Error::Io`] if the path cannot be opened; [`Error::Format`] if neither the content nor
+/// the extension is a known format, or a directory has no `x_bin`.
 pub fn detect_format(path: &Path) -> Result<CloudFormat> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    let unknown = |message: String| Error::Format {
+        path: path.to_path_buf(),
+        format: "particle file",
+        message,
+    };
     if meta.is_dir() {
-        let e = std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a directory");
-        return Err(Error::io(path, e));
+        return if path.join("x_bin").is_file() {
+            Ok(CloudFormat::FrameFolder)
+        } else {
+            Err(unknown(
+                "a directory without 'x_bin' (only frame folders are read as directories)"
+                    .to_string(),
+            ))
+        };
     }
     let mut head = Vec::with_capacity(16);
     std::fs::File::open(path)
         .and_then(|f| f.take(16).read_to_end(&mut head))
         .map_err(|e| Error::io(path, e))?;
-    if head.starts_with(b"ply\n") || head.starts_with(b"ply\r") {
-        return Ok(CloudFormat::Ply);
+    if let Some(f) = sniff(&head) {
+        return Ok(f);
     }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("ply") => Ok(CloudFormat::Ply),
-        _ => Err(Error::Format {
-            path: path.to_path_buf(),
-            format: "particle file",
-            message: if head.is_empty() {
-                "empty file".to_string()
-            } else {
-                "unrecognised format (supported: PLY)".to_string()
-            },
-        }),
+    if head.starts_with(&[0x1f, 0x8b]) {
+        let mut inner = Vec::with_capacity(16);
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let _ = flate2::read::GzDecoder::new(file)
+            .take(16)
+            .read_to_end(&mut inner);
+        match sniff(&inner) {
+            Some(CloudFormat::Bgeo) => return Ok(CloudFormat::Bgeo),
+            Some(f) => {
+                return Err(unknown(format!(
+                    "gzip-compressed {} is not supported (only BGEO); decompress it first",
+                    f.name()
+                )));
+            }
+            None => {}
+        }
+    }
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let ext = name.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
+    match ext {
+        "ply" => Ok(CloudFormat::Ply),
+        "vtk" => Ok(CloudFormat::VtkLegacy),
+        "vtu" | "vtp" => Ok(CloudFormat::VtkXml),
+        "bgeo" => Ok(CloudFormat::Bgeo),
+        "gz" if name.ends_with(".bgeo.gz") => Ok(CloudFormat::Bgeo),
+        "csv" | "tsv" | "xyz" | "txt" => Ok(CloudFormat::Csv),
+        _ => Err(unknown(if head.is_empty() {
+            "empty file".to_string()
+        } else {
+            "unrecognised format (supported: PLY, VTK legacy, VTK XML .vtu/.vtp, BGEO, \
+             CSV/XYZ, frame folders)"
+                .to_string()
+        })),
     }
 }
 
-/// Reads a particle file of any supported format (see [`detect_format`]).
+/// Reads a particle file (or frame folder) of any supported format (see [`detect_format`]).
 ///
-/// Cost: one pass over the file (plus a 16-byte sniff); about the cost of reading its bytes.
+/// Cost: about the cost of reading the file's bytes (plus inflating them if compressed).
 ///
 /// # Errors
-/// As [`detect_format`] and the format's reader (e.g. [`ply::read`]): every error names the
-/// file, the format and the problem.
+/// As [`detect_format`] and the format's reader: every error names the file, the format and
+/// the problem.
 pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
     match detect_format(path)? {
         CloudFormat::Ply => ply::read(path, opts),
+        CloudFormat::VtkLegacy => vtk::read(path, opts),
+        CloudFormat::VtkXml => vtu::read(path, opts),
+        CloudFormat::Bgeo => bgeo::read(path, opts),
+        CloudFormat::Csv => csv::read(path, opts),
+        CloudFormat::FrameFolder => frame_folder::read(path, opts),
+    }
+}
+
+/// Reads a whole regular file, refusing directories.
+fn read_file(path: &Path) -> Result<Vec<u8>> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_dir() {
+        let e = std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a directory");
+        return Err(Error::io(path, e));
+    }
+    std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+/// Shorthand for an [`Error::Format`].
+fn format_error(path: &Path, format: &'static str, message: impl Into<String>) -> Error {
+    Error::Format {
+        path: path.to_path_buf(),
+        format,
+        message: message.into(),
     }
 }

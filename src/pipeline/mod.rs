@@ -119,12 +119,15 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
             ))),
         },
         (Some(path), None) => {
-            let unit = desc.film.thickness_unit.as_deref().unwrap_or("nm");
-            let opts = ReadOptions {
-                thickness_scale_to_nm: thickness_unit_factor(unit)?,
+            let mut opts = ReadOptions {
                 thickness_attr: input.thickness_attr.clone(),
                 ..ReadOptions::default()
             };
+            // Without an explicit unit each format's own applies (m for frame folders, nm else).
+            if let Some(unit) = desc.film.thickness_unit.as_deref() {
+                opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
+                opts.thickness_unit_explicit = true;
+            }
             read_cloud(&base.join(path), &opts)
         }
     }

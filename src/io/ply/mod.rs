@@ -104,7 +104,7 @@ fn read_from<R: Read>(reader: R, len: Option<u64>, opts: &ReadOptions) -> Result
         Encoding::BinaryLe => binary::read::<R, false>(&mut src, &header, vi, &plan, &mut out)?,
         Encoding::BinaryBe => binary::read::<R, true>(&mut src, &header, vi, &plan, &mut out)?,
     }
-    Ok(out.into_cloud(plan, opts.thickness_scale_to_nm))
+    Ok(out.into_cloud(plan, opts.thickness_scale(1.0)))
 }
 
 /// Checks that the body can hold the elements up to and including `vertex` (index `vi`), before

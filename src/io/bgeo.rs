@@ -1,0 +1,229 @@
+//! Houdini classic BGEO (V5) reader, plain or gzip-compressed (`.bgeo`, `.bgeo.gz`), as
+//! written by Houdini's classic format, partio and SPlisHSPlasH.
+//!
+//! Layout (big-endian): `Bgeo`, `V`, version 5, then the counts of points, primitives, point
+//! groups, primitive groups, point attributes, vertex attributes, primitive attributes and
+//! detail attributes (`i32` each); then each point attribute's definition (`u16` name length,
+//! name, `u16` size in 4-byte words, `i32` type: 0 float, 1 int, 5 vector, 4 indexed string;
+//! then its default values, or for indexed strings their table); then per point `P` as 4
+//! floats (x y z w; w is dropped) followed by every attribute's words. Everything after the
+//! points (primitives, groups, detail attributes) is ignored.
+//!
+//! Float, int and vector attributes become attributes (sizes other than 1 split by
+//! [`crate::io`]'s rules; ints are converted to f32); indexed-string attributes are skipped;
+//! `string` (type 2) and unknown types are errors. The new JSON-based `.bgeo` of Houdini 12+
+//! is recognised and rejected with a hint. The (decompressed) file is read into memory; the
+//! point count is checked against its size before allocating.
+
+use std::io::Read;
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::columns::{Columns, STANDARD, show};
+use super::num::Num;
+use super::{ReadOptions, format_error, read_file};
+use crate::error::Result;
+use crate::pointcloud::PointCloud;
+
+/// Name used in error messages.
+const FORMAT: &str = "BGEO";
+
+/// Reads the BGEO file at `path` into a [`PointCloud`] (see the module docs).
+///
+/// Cost: reads (and inflates, if gzip) the file into memory, then one pass over the points;
+/// peak memory is the decompressed file plus the cloud.
+///
+/// # Errors
+/// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
+/// and the byte offset (in the decompressed data) for corrupt gzip, a wrong magic or version,
+/// malformed attribute definitions, unsupported attribute types, truncated point data, or an
+/// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
+pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    opts.check()?;
+    let raw = read_file(path)?;
+    let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
+        let mut out = Vec::new();
+        flate2::read::MultiGzDecoder::new(raw.as_slice())
+            .read_to_end(&mut out)
+            .map_err(|e| {
+                format_error(
+                    path,
+                    FORMAT,
+                    format!(
+                        "gzip data is corrupt or truncated after {} bytes: {e}",
+                        out.len()
+                    ),
+                )
+            })?;
+        out
+    } else {
+        raw
+    };
+    parse(&bytes)
+        .and_then(|c| c.into_cloud(opts, &STANDARD))
+        .map_err(|m| format_error(path, FORMAT, m))
+}
+
+/// A big-endian cursor.
+struct Cur<'a> {
+    b: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Cur<'a> {
+    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], String> {
+        match self.pos.checked_add(n).filter(|&e| e <= self.b.len()) {
+            Some(e) => {
+                let s = &self.b[self.pos..e];
+                self.pos = e;
+                Ok(s)
+            }
+            None => Err(format!(
+                "data runs out at byte offset {} reading {what} ({n} bytes needed, {} left)",
+                self.pos,
+                self.b.len() - self.pos.min(self.b.len())
+            )),
+        }
+    }
+    fn i32(&mut self, what: &str) -> Result<i32, String> {
+        let s = self.take(4, what)?;
+        Ok(i32::from_be_bytes([s[0], s[1], s[2], s[3]]))
+    }
+    fn u16(&mut self, what: &str) -> Result<u16, String> {
+        let s = self.take(2, what)?;
+        Ok(u16::from_be_bytes([s[0], s[1]]))
+    }
+    fn count(&mut self, what: &str) -> Result<u64, String> {
+        let at = self.pos;
+        let v = self.i32(what)?;
+        u64::try_from(v).map_err(|_| format!("byte offset {at}: negative {what} ({v})"))
+    }
+    fn string(&mut self, what: &str) -> Result<String, String> {
+        let n = self.u16(what)?;
+        let s = self.take(usize::from(n), what)?;
+        Ok(String::from_utf8_lossy(s).into_owned())
+    }
+}
+
+/// One point attribute: name, words per point, type, word offset in the point record.
+struct Attr {
+    name: String,
+    size: usize,
+    ty: Num,
+    offset: usize,
+    keep: bool,
+}
+
+/// Parses the decompressed file into columns.
+fn parse(b: &[u8]) -> Result<Columns, String> {
+    if b.is_empty() {
+        return Err("empty file".into());
+    }
+    if b.starts_with(b"\x7fNSJ") || b.starts_with(b"{") || b.starts_with(b"[") {
+        return Err(
+            "Houdini JSON geometry (bgeo of Houdini 12+) is not supported; \
+                    export classic BGEO V5 (.bhclassic) instead"
+                .into(),
+        );
+    }
+    let mut c = Cur { b, pos: 0 };
+    let magic = c.take(5, "the magic")?;
+    if magic != b"BgeoV" {
+        return Err("not a classic BGEO file (no 'BgeoV' magic)".into());
+    }
+    let version = c.i32("the version")?;
+    if version != 5 {
+        return Err(format!("version {version} is not supported (only 5)"));
+    }
+    let n = c.count("point count")?;
+    let _prims = c.count("primitive count")?;
+    let _pgroups = c.count("point group count")?;
+    let _prgroups = c.count("primitive group count")?;
+    let nattr = c.count("point attribute count")?;
+    let _vattr = c.count("vertex attribute count")?;
+    let _prattr = c.count("primitive attribute count")?;
+    let _dattr = c.count("detail attribute count")?;
+    // Each definition takes at least 8 bytes.
+    if nattr.saturating_mul(8) > (b.len() - c.pos) as u64 {
+        return Err(format!(
+            "{nattr} point attributes cannot fit in the {} bytes left",
+            b.len() - c.pos
+        ));
+    }
+    let mut attrs = Vec::new();
+    let mut words = 4usize; // P (x y z w)
+    for i in 0..nattr {
+        let at = c.pos;
+        let name = c.string("an attribute name")?;
+        let size = usize::from(c.u16("an attribute size")?);
+        let ty = c.i32("an attribute type")?;
+        let what = format!("attribute {i} '{}'", show(&name));
+        if size == 0 {
+            return Err(format!("byte offset {at}: {what} has size 0"));
+        }
+        let (num, keep) = match ty {
+            0 | 5 => (Num::F32, true),
+            1 => (Num::I32, true),
+            4 => {
+                let k = c.count("a string table size")?;
+                for _ in 0..k {
+                    c.string("a string table entry")?;
+                }
+                (Num::I32, false)
+            }
+            2 => {
+                return Err(format!(
+                    "byte offset {at}: {what} has type string (unsupported)"
+                ));
+            }
+            t => return Err(format!("byte offset {at}: {what} has unknown type {t}")),
+        };
+        if ty != 4 {
+            c.take(4 * size, "attribute defaults")?;
+        }
+        attrs.push(Attr {
+            name,
+            size,
+            ty: num,
+            offset: words,
+            keep,
+        });
+        words += size;
+    }
+    let stride = 4 * words;
+    let left = (b.len() - c.pos) as u64;
+    let need = n.saturating_mul(stride as u64);
+    if need > left {
+        return Err(format!(
+            "data runs out: {n} points of {stride} bytes need {need} bytes after byte offset \
+             {}, {left} left (it ends in point {})",
+            c.pos,
+            left / stride as u64
+        ));
+    }
+    let n = n as usize;
+    let body = c.take(need as usize, "the points")?;
+    let mut cols = Columns {
+        positions: Vec::with_capacity(n),
+        scalars: Vec::new(),
+    };
+    let mut p = Vec::with_capacity(3 * n);
+    for rec in body.chunks_exact(stride) {
+        Num::F32.decode(&rec[..12], true, &mut p);
+    }
+    cols.positions
+        .extend(p.chunks_exact(3).map(|q| Vec3::new(q[0], q[1], q[2])));
+    drop(p);
+    let mut v = Vec::new();
+    for a in attrs.iter().filter(|a| a.keep) {
+        v.clear();
+        v.reserve(n * a.size);
+        let (o, e) = (4 * a.offset, 4 * (a.offset + a.size));
+        for rec in body.chunks_exact(stride) {
+            a.ty.decode(&rec[o..e], true, &mut v);
+        }
+        cols.push(&a.name, a.size, std::mem::take(&mut v));
+    }
+    Ok(cols)
+}

@@ -1,0 +1,521 @@
+//! VTK XML reader (`.vtu` unstructured grids, `.vtp` poly data) for particle clouds.
+//!
+//! Reads every `Piece` (concatenated in order): `Points` are the positions and every
+//! `PointData` `DataArray` becomes an attribute (k components split by [`crate::io`]'s rules);
+//! cells, cell data and field data are skipped. Array encodings: `ascii`, inline `binary`
+//! (base64) and `appended` (`raw` or `base64`), with `UInt32` or `UInt64` headers, little- or
+//! big-endian, uncompressed or `vtkZLibDataCompressor`. Other compressors (LZ4, LZMA) are
+//! rejected. The whole file is read into memory; every size is checked against the bytes left
+//! (and, for compressed data, against the best possible zlib ratio) before allocating.
+
+use std::borrow::Cow;
+use std::ops::Range;
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::columns::{Columns, STANDARD, show};
+use super::num::Num;
+use super::sources::{Base64, Raw, Source};
+use super::xml::Scanner;
+use super::{ReadOptions, format_error, read_file};
+use crate::error::Result;
+use crate::pointcloud::PointCloud;
+
+/// Name used in error messages.
+const FORMAT: &str = "VTK XML";
+
+/// Largest ratio of inflated to deflated bytes zlib can reach (with a margin).
+const MAX_ZLIB_RATIO: u64 = 1100;
+
+/// Reads the VTK XML file at `path` into a [`PointCloud`] (see the module docs).
+///
+/// Cost: reads the file into memory, then one pass (plus inflating compressed arrays); peak
+/// memory is the file plus the cloud plus one decoded array.
+///
+/// # Errors
+/// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
+/// and the array or byte offset for malformed XML, unsupported dataset types, encodings or
+/// compressors, sizes that disagree with `NumberOfPoints`, truncated or corrupt data, or an
+/// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
+pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    opts.check()?;
+    let bytes = read_file(path)?;
+    parse(&bytes)
+        .and_then(|c| c.into_cloud(opts, &STANDARD))
+        .map_err(|m| format_error(path, FORMAT, m))
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Encoding {
+    Ascii,
+    Binary,
+    Appended,
+}
+
+/// One `DataArray` to decode.
+#[derive(Debug)]
+struct Array {
+    name: String,
+    ty: Num,
+    k: u64,
+    enc: Encoding,
+    offset: u64,
+    /// Text content (ascii / inline binary), as ranges of the file outside child elements.
+    text: Vec<Range<usize>>,
+}
+
+#[derive(Debug, Default)]
+struct Piece {
+    n: u64,
+    points: Option<Array>,
+    data: Vec<Array>,
+}
+
+/// File-wide settings.
+struct Settings<'a> {
+    big_endian: bool,
+    header: Num,
+    zlib: bool,
+    /// Appended data after the `_`, and whether it is base64.
+    appended: Option<(&'a [u8], bool)>,
+}
+
+fn num_type(name: &str) -> Option<Num> {
+    Some(match name {
+        "Int8" | "Char" => Num::I8,
+        "UInt8" | "UChar" => Num::U8,
+        "Int16" => Num::I16,
+        "UInt16" => Num::U16,
+        "Int32" => Num::I32,
+        "UInt32" => Num::U32,
+        "Int64" => Num::I64,
+        "UInt64" => Num::U64,
+        "Float32" => Num::F32,
+        "Float64" => Num::F64,
+        _ => return None,
+    })
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Ctx {
+    None,
+    Points,
+    PointData,
+}
+
+/// Parses the file into columns.
+fn parse(b: &[u8]) -> Result<Columns, String> {
+    if b.is_empty() {
+        return Err("empty file".into());
+    }
+    let mut sc = Scanner { b, pos: 0 };
+    let root = sc
+        .next_tag()?
+        .filter(|t| t.name == "VTKFile" && !t.end)
+        .ok_or("not a VTK XML file (no <VTKFile> root element)")?;
+    let ty = root.attr("type").unwrap_or("");
+    if ty != "UnstructuredGrid" && ty != "PolyData" {
+        return Err(format!(
+            "VTKFile type '{}' is not supported (only UnstructuredGrid and PolyData)",
+            show(ty)
+        ));
+    }
+    let big_endian = match root.attr("byte_order").unwrap_or("LittleEndian") {
+        "LittleEndian" => false,
+        "BigEndian" => true,
+        o => return Err(format!("unknown byte_order '{}'", show(o))),
+    };
+    let header = match root.attr("header_type").unwrap_or("UInt32") {
+        "UInt32" => Num::U32,
+        "UInt64" => Num::U64,
+        o => return Err(format!("unknown header_type '{}'", show(o))),
+    };
+    let zlib = match root.attr("compressor").unwrap_or("") {
+        "" => false,
+        "vtkZLibDataCompressor" => true,
+        o => {
+            return Err(format!(
+                "compressor '{}' is not supported (only vtkZLibDataCompressor)",
+                show(o)
+            ));
+        }
+    };
+    let mut set = Settings {
+        big_endian,
+        header,
+        zlib,
+        appended: None,
+    };
+    let mut pieces: Vec<Piece> = Vec::new();
+    let mut ctx = Ctx::None;
+    while let Some(t) = sc.next_tag()? {
+        let at = t.start;
+        match (t.name, t.end) {
+            ("Piece", false) => {
+                let n = t
+                    .attr("NumberOfPoints")
+                    .and_then(|s| s.trim().parse::<u64>().ok())
+                    .ok_or_else(|| format!("byte offset {at}: Piece without a NumberOfPoints"))?;
+                pieces.push(Piece {
+                    n,
+                    ..Piece::default()
+                });
+            }
+            ("Points", false) if !t.empty => ctx = Ctx::Points,
+            ("PointData", false) if !t.empty => ctx = Ctx::PointData,
+            ("Points" | "PointData", true) => ctx = Ctx::None,
+            ("DataArray", false) => {
+                let mut arr = array_of(&t, at)?;
+                if !t.empty {
+                    arr.text = text_until_end(&mut sc)?;
+                }
+                let piece = pieces.last_mut();
+                match (ctx, piece) {
+                    (Ctx::Points, Some(p)) if p.points.is_none() => p.points = Some(arr),
+                    (Ctx::Points, Some(_)) => {
+                        return Err(format!("byte offset {at}: second Points array"));
+                    }
+                    (Ctx::PointData, Some(p)) => p.data.push(arr),
+                    (Ctx::None, _) => {}
+                    (_, None) => return Err(format!("byte offset {at}: DataArray outside Piece")),
+                }
+            }
+            ("AppendedData", false) => {
+                let base64 = match t.attr("encoding").unwrap_or("raw") {
+                    "raw" => false,
+                    "base64" => true,
+                    o => return Err(format!("unknown AppendedData encoding '{}'", show(o))),
+                };
+                let mut i = t.after;
+                while i < b.len() && b[i].is_ascii_whitespace() {
+                    i += 1;
+                }
+                if b.get(i) != Some(&b'_') {
+                    return Err(format!(
+                        "byte offset {i}: AppendedData does not start with '_'"
+                    ));
+                }
+                set.appended = Some((&b[i + 1..], base64));
+                break;
+            }
+            _ => {}
+        }
+    }
+    if pieces.is_empty() {
+        return Err("no Piece element".into());
+    }
+    let mut cols = Columns::default();
+    let mut data: Vec<(String, u64, Vec<f32>)> = Vec::new();
+    for (pi, p) in pieces.iter().enumerate() {
+        let pts = p
+            .points
+            .as_ref()
+            .ok_or_else(|| format!("Piece {pi} has no Points array"))?;
+        if pts.k != 3 {
+            return Err(format!("Points array has {} components, expected 3", pts.k));
+        }
+        let v = decode(b, pts, p.n, &set)?;
+        cols.positions
+            .extend(v.chunks_exact(3).map(|q| Vec3::new(q[0], q[1], q[2])));
+        if pi > 0 && p.data.len() != data.len() {
+            return Err(format!(
+                "Piece {pi} has {} point arrays, Piece 0 has {}",
+                p.data.len(),
+                data.len()
+            ));
+        }
+        for (ai, a) in p.data.iter().enumerate() {
+            let v = decode(b, a, p.n, &set)?;
+            if pi == 0 {
+                data.push((a.name.clone(), a.k, v));
+            } else if data[ai].0 != a.name || data[ai].1 != a.k {
+                return Err(format!(
+                    "Piece {pi}'s point array {ai} is '{}', Piece 0's is '{}'",
+                    show(&a.name),
+                    show(&data[ai].0)
+                ));
+            } else {
+                data[ai].2.extend(v);
+            }
+        }
+    }
+    for (name, k, v) in data {
+        cols.push(&name, k as usize, v);
+    }
+    Ok(cols)
+}
+
+/// The array described by a `DataArray` tag.
+fn array_of(t: &super::xml::Tag<'_>, at: usize) -> Result<Array, String> {
+    let name = t.attr("Name").unwrap_or("unnamed").to_string();
+    let tyname = t.attr("type").unwrap_or("");
+    let ty = num_type(tyname).ok_or_else(|| {
+        format!(
+            "byte offset {at}: array '{}' has unsupported type '{}'",
+            show(&name),
+            show(tyname)
+        )
+    })?;
+    let k = match t.attr("NumberOfComponents") {
+        None => 1,
+        Some(s) => s
+            .trim()
+            .parse::<u64>()
+            .ok()
+            .filter(|k| (1..=64).contains(k))
+            .ok_or_else(|| {
+                format!(
+                    "byte offset {at}: array '{}' has NumberOfComponents '{}' (1 to 64 supported)",
+                    show(&name),
+                    show(s)
+                )
+            })?,
+    };
+    let enc = match t.attr("format").unwrap_or("ascii") {
+        "ascii" => Encoding::Ascii,
+        "binary" => Encoding::Binary,
+        "appended" => Encoding::Appended,
+        o => {
+            return Err(format!(
+                "byte offset {at}: array '{}' has unknown format '{}'",
+                show(&name),
+                show(o)
+            ));
+        }
+    };
+    let offset = match (enc, t.attr("offset")) {
+        (Encoding::Appended, Some(s)) => s
+            .trim()
+            .parse::<u64>()
+            .map_err(|_| format!("byte offset {at}: array '{}' has a bad offset", show(&name)))?,
+        (Encoding::Appended, None) => {
+            return Err(format!(
+                "byte offset {at}: appended array '{}' has no offset",
+                show(&name)
+            ));
+        }
+        _ => 0,
+    };
+    Ok(Array {
+        name,
+        ty,
+        k,
+        enc,
+        offset,
+        text: Vec::new(),
+    })
+}
+
+/// Collects the text directly inside the current element up to its end tag (skipping child
+/// elements such as `InformationKey`).
+fn text_until_end(sc: &mut Scanner<'_>) -> Result<Vec<Range<usize>>, String> {
+    let mut text = Vec::new();
+    let mut depth = 0usize;
+    loop {
+        let from = sc.pos;
+        let t = sc
+            .next_tag()?
+            .ok_or_else(|| format!("byte offset {from}: file ends inside a DataArray"))?;
+        if depth == 0 {
+            text.push(from..t.start);
+        }
+        match (t.end, t.empty) {
+            (true, _) if depth == 0 => return Ok(text),
+            (true, _) => depth -= 1,
+            (false, false) => depth += 1,
+            (false, true) => {}
+        }
+    }
+}
+
+/// Decodes one array of `n` tuples to f32.
+fn decode(b: &[u8], a: &Array, n: u64, set: &Settings<'_>) -> Result<Vec<f32>, String> {
+    let name = show(&a.name);
+    let count = n.saturating_mul(a.k);
+    let nbytes = count.saturating_mul(a.ty.size() as u64);
+    let ctx = |m: String| format!("array '{name}': {m}");
+    match a.enc {
+        Encoding::Ascii => ascii(b, a, count).map_err(ctx),
+        Encoding::Binary => {
+            let text: Vec<u8> = a.text.iter().flat_map(|r| &b[r.clone()]).copied().collect();
+            let mut src = Base64 {
+                s: Cow::Owned(text),
+                pos: 0,
+                pending: Vec::new(),
+            };
+            block(&mut src, nbytes, a, set).map_err(ctx)
+        }
+        Encoding::Appended => {
+            let (data, base64) = set
+                .appended
+                .ok_or_else(|| ctx("appended array but no AppendedData".into()))?;
+            let off = usize::try_from(a.offset)
+                .ok()
+                .filter(|&o| o <= data.len())
+                .ok_or_else(|| {
+                    ctx(format!(
+                        "offset {} lies beyond the {} bytes of appended data",
+                        a.offset,
+                        data.len()
+                    ))
+                })?;
+            if base64 {
+                let mut src = Base64 {
+                    s: Cow::Borrowed(&data[off..]),
+                    pos: 0,
+                    pending: Vec::new(),
+                };
+                block(&mut src, nbytes, a, set)
+            } else {
+                block(
+                    &mut Raw {
+                        b: &data[off..],
+                        pos: 0,
+                    },
+                    nbytes,
+                    a,
+                    set,
+                )
+            }
+            .map_err(|m| ctx(format!("{m} (appended offset {off})")))
+        }
+    }
+}
+
+/// Parses `count` ASCII numbers from the array's text.
+fn ascii(b: &[u8], a: &Array, count: u64) -> Result<Vec<f32>, String> {
+    let len: usize = a.text.iter().map(|r| r.len()).sum();
+    if count > (len as u64).div_ceil(2) {
+        return Err(format!(
+            "{count} values cannot fit in its {len} bytes of text"
+        ));
+    }
+    let mut out = Vec::with_capacity(count as usize);
+    for r in &a.text {
+        for tok in b[r.clone()].split(u8::is_ascii_whitespace) {
+            if tok.is_empty() {
+                continue;
+            }
+            let s = std::str::from_utf8(tok).unwrap_or("\u{fffd}");
+            let v = s.parse::<f32>().map_err(|_| {
+                format!(
+                    "expected a number, found '{}' at byte offset {}",
+                    show(s),
+                    tok.as_ptr() as usize - b.as_ptr() as usize
+                )
+            })?;
+            if out.len() as u64 == count {
+                return Err(format!("more than the {count} values expected"));
+            }
+            out.push(v);
+        }
+    }
+    if (out.len() as u64) < count {
+        return Err(format!("data runs out: {} of {count} values", out.len()));
+    }
+    Ok(out)
+}
+
+/// Reads one binary block (header + data, possibly zlib-compressed) of `nbytes` decoded bytes.
+fn block<'a>(
+    src: &mut dyn Source<'a>,
+    nbytes: u64,
+    a: &Array,
+    set: &Settings<'_>,
+) -> Result<Vec<f32>, String> {
+    let hs = set.header.size();
+    let word = |src: &mut dyn Source<'a>| -> Result<u64, String> {
+        let h = src.take(hs)?;
+        set.header
+            .read_uint(&h, set.big_endian)
+            .ok_or_else(|| "bad block header".to_string())
+    };
+    let mut out = Vec::new();
+    if !set.zlib {
+        let len = word(src)?;
+        if len != nbytes {
+            return Err(format!(
+                "its header says {len} bytes, NumberOfPoints × components × size is {nbytes}"
+            ));
+        }
+        if len > src.left() {
+            return Err(format!(
+                "data runs out: needs {len} bytes, at most {} left",
+                src.left()
+            ));
+        }
+        let d = src.take(len as usize)?;
+        out.reserve_exact(d.len() / a.ty.size());
+        a.ty.decode(&d, set.big_endian, &mut out);
+        return Ok(out);
+    }
+    let blocks = word(src)?;
+    if blocks.saturating_add(2).saturating_mul(hs as u64) > src.left() {
+        return Err(format!(
+            "data runs out: {blocks} compressed blocks cannot fit in {} bytes",
+            src.left()
+        ));
+    }
+    let bs = word(src)?;
+    let last = word(src)?;
+    let mut sizes = Vec::with_capacity(blocks as usize);
+    for _ in 0..blocks {
+        sizes.push(word(src)?);
+    }
+    let total = match blocks {
+        0 => 0,
+        m => (m - 1)
+            .checked_mul(bs)
+            .and_then(|t| t.checked_add(if last == 0 { bs } else { last }))
+            .ok_or("absurd compressed block sizes")?,
+    };
+    if total != nbytes {
+        return Err(format!(
+            "its compression header says {total} bytes, NumberOfPoints × components × size is \
+             {nbytes}"
+        ));
+    }
+    let csum = sizes.iter().try_fold(0u64, |s, &c| s.checked_add(c));
+    let csum = csum.ok_or("absurd compressed block sizes")?;
+    if csum > src.left() {
+        return Err(format!(
+            "data runs out: compressed blocks need {csum} bytes, at most {} left",
+            src.left()
+        ));
+    }
+    if total > csum.saturating_mul(MAX_ZLIB_RATIO).saturating_add(1024) {
+        return Err(format!(
+            "{csum} compressed bytes cannot inflate to the {total} bytes expected"
+        ));
+    }
+    let mut raw: Vec<u8> = Vec::with_capacity(total as usize);
+    for (i, &c) in sizes.iter().enumerate() {
+        let want = if i + 1 == sizes.len() && last != 0 {
+            last
+        } else {
+            bs
+        } as usize;
+        let input = src.take(c as usize)?;
+        let before = raw.len();
+        raw.resize(before + want, 0);
+        let mut z = flate2::Decompress::new(true);
+        // Exactly `want` bytes of room: the stream must end there.
+        let st = z.decompress(&input, &mut raw[before..], flate2::FlushDecompress::Finish);
+        let got = z.total_out() as usize;
+        let ok = matches!(st, Ok(flate2::Status::StreamEnd)) && got == want;
+        if !ok {
+            return Err(format!(
+                "compressed block {i} of {blocks} is corrupt (zlib {}; {} of {want} bytes)",
+                match st {
+                    Ok(s) => format!("{s:?}"),
+                    Err(e) => e.to_string(),
+                },
+                got
+            ));
+        }
+    }
+    out.reserve_exact(raw.len() / a.ty.size());
+    a.ty.decode(&raw, set.big_endian, &mut out);
+    Ok(out)
+}
