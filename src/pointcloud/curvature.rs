@@ -76,7 +76,8 @@ pub fn gradient_from_table(
                 sb += b * dv;
             }
             let det = saa * sbb - sab * sab;
-            if !(det > 1e-12 * (saa + sbb) * (saa + sbb)) {
+            // Degenerate (collinear or too few neighbours), or NaN.
+            if det.is_nan() || det <= 1e-12 * (saa + sbb) * (saa + sbb) {
                 return Vec3::ZERO;
             }
             let ga = (sa * sbb - sb * sab) / det;
