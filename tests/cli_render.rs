@@ -334,3 +334,51 @@ fn repair_drops_or_fixes_bad_particles_and_says_so() {
     assert!(out.contains("3 particles"), "{out}");
     assert_eq!(png_size(&png), (16, 16));
 }
+
+#[test]
+fn convert_writes_what_was_read() {
+    let ply = tmp("converted.ply");
+    let (code, out, err) = filmsplat(&[
+        "convert",
+        &data("fluid_250_particles.vtu"),
+        "-o",
+        ply.to_str().unwrap(),
+        "--keep",
+        "density,pressure",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("250 particles"));
+    let original = filmsplat::io::read_cloud(
+        Path::new(&data("fluid_250_particles.vtu")),
+        &Default::default(),
+    )
+    .unwrap();
+    let back = filmsplat::io::read_cloud(&ply, &Default::default()).unwrap();
+    assert_eq!(back.positions, original.positions);
+    let mut names: Vec<&str> = back.extra.iter().map(|(n, _)| n.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["density", "pressure"]);
+    assert_eq!(back.extra("density"), original.extra("density"));
+    let (code, _, err) = filmsplat(&[
+        "convert",
+        &data("fluid_250_particles.vtu"),
+        "-o",
+        tmp("x.ply").to_str().unwrap(),
+        "--keep",
+        "bogus",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("bogus") && err.contains("fluid_250_particles.vtu"),
+        "{err}"
+    );
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &data("fluid_250_particles.vtu"),
+        "--normal-attr",
+        "nope",
+        "-o",
+        tmp("y.png").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "an explicitly named attribute must exist: {err}");
+}

@@ -1,8 +1,7 @@
 //! `filmsplat info`: what a particle file holds and what the renderer would make of it.
 
 use crate::Result;
-use crate::io::{ReadOptions, read_cloud};
-use crate::pipeline::thickness_unit_factor;
+use crate::io::read_cloud;
 use crate::pointcloud::estimate::estimate_radii;
 use crate::pointcloud::{EstimateOptions, compute_stats};
 use clap::Args;
@@ -21,18 +20,22 @@ pub struct InfoArgs {
     /// Name of the thickness attribute.
     #[arg(long)]
     thickness_attr: Option<String>,
+    /// Prefix of the normal attributes (n for nx ny nz, normal for normal_x ...).
+    #[arg(long)]
+    normal_attr: Option<String>,
+    /// Name of the radius attribute.
+    #[arg(long)]
+    radius_attr: Option<String>,
 }
 
 /// Runs `filmsplat info`.
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
-    let mut opts = ReadOptions {
-        thickness_attr: a.thickness_attr.clone(),
-        ..ReadOptions::default()
-    };
-    if let Some(unit) = &a.thickness_unit {
-        opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
-        opts.thickness_unit_explicit = true;
-    }
+    let opts = super::convert::read_options(
+        a.thickness_unit.as_deref(),
+        a.thickness_attr.as_ref(),
+        a.normal_attr.as_ref(),
+        a.radius_attr.as_ref(),
+    )?;
     let cloud = read_cloud(&a.input, &opts)?;
     let stats = compute_stats(&cloud);
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));

@@ -2,6 +2,7 @@
 //! library errors into one-line messages and exit codes (2: bad input, 1: internal error).
 
 mod chart;
+mod convert;
 mod film;
 mod info;
 mod parse;
@@ -32,6 +33,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Write a built-in sample cloud (e.g. a soap bubble) as PLY.
     Sample(sample::SampleArgs),
+    /// Convert any particle file filmsplat reads to binary PLY.
+    Convert(convert::ConvertArgs),
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
@@ -59,6 +62,7 @@ where
         Command::Render(a) => render::run(&a, out),
         Command::Info(a) => info::run(&a, out),
         Command::Sample(a) => sample::run(&a, out),
+        Command::Convert(a) => convert::run(&a, out),
     }
 }
 

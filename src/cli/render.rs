@@ -61,6 +61,12 @@ pub struct RenderArgs {
     /// Name of the thickness attribute (default: the first of the aliases below).
     #[arg(long)]
     thickness_attr: Option<String>,
+    /// Prefix of the normal attributes (n for nx ny nz, normal for normal_x ..., N).
+    #[arg(long)]
+    normal_attr: Option<String>,
+    /// Name of the radius attribute.
+    #[arg(long)]
+    radius_attr: Option<String>,
     /// Thickness in nm for clouds without one (default 500).
     #[arg(long)]
     default_thickness: Option<f32>,
@@ -160,6 +166,8 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.film.thickness_unit, a.thickness_unit);
     set!(d.film.thickness_scale, a.thickness_scale);
     set!(d.input.thickness_attr, a.thickness_attr);
+    set!(d.input.normal_attr, a.normal_attr);
+    set!(d.input.radius_attr, a.radius_attr);
     set!(d.film.default_thickness_nm, a.default_thickness);
     set!(d.film.radius_scale, a.radius_scale);
     set!(d.environment.rotation, a.env_rotation);

@@ -45,6 +45,10 @@ pub struct InputDesc {
     pub time: Option<f32>,
     /// Name of the thickness attribute in the file (default: rh, thickness, h).
     pub thickness_attr: Option<String>,
+    /// Prefix of the normal attributes (default: n, normal, normals, N).
+    pub normal_attr: Option<String>,
+    /// Name of the radius attribute (default: radius, pscale).
+    pub radius_attr: Option<String>,
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii, instead of refusing the file (default false).
     pub repair: Option<bool>,
