@@ -121,6 +121,8 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
         (Some(path), None) => {
             let mut opts = ReadOptions {
                 thickness_attr: input.thickness_attr.clone(),
+                normal_attr: input.normal_attr.clone(),
+                radius_attr: input.radius_attr.clone(),
                 ..ReadOptions::default()
             };
             // Without an explicit unit each format's own applies (m for frame folders, nm else).
