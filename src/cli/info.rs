@@ -13,29 +13,13 @@ use std::path::PathBuf;
 pub struct InfoArgs {
     /// The particle file.
     input: PathBuf,
-    /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
-    /// frame folders, nm otherwise).
-    #[arg(long)]
-    thickness_unit: Option<String>,
-    /// Name of the thickness attribute.
-    #[arg(long)]
-    thickness_attr: Option<String>,
-    /// Prefix of the normal attributes (n for nx ny nz, normal for normal_x ...).
-    #[arg(long)]
-    normal_attr: Option<String>,
-    /// Name of the radius attribute.
-    #[arg(long)]
-    radius_attr: Option<String>,
+    #[command(flatten)]
+    attributes: super::attributes::AttributeArgs,
 }
 
 /// Runs `filmsplat info`.
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
-    let opts = super::convert::read_options(
-        a.thickness_unit.as_deref(),
-        a.thickness_attr.as_ref(),
-        a.normal_attr.as_ref(),
-        a.radius_attr.as_ref(),
-    )?;
+    let opts = a.attributes.read_options()?;
     let cloud = read_cloud(&a.input, &opts)?;
     let stats = compute_stats(&cloud);
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));

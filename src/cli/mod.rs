@@ -1,6 +1,7 @@
 //! Command-line front end: a thin layer that turns clap arguments into library calls, and
 //! library errors into one-line messages and exit codes (2: bad input, 1: internal error).
 
+mod attributes;
 mod chart;
 mod convert;
 mod film;
