@@ -4,33 +4,8 @@
 use filmsplat::geometry::{Primitive, Ray, SplatGeometry};
 use glam::Vec3;
 
-/// xorshift64* — small deterministic generator for test data.
-struct Rng(u64);
-
-impl Rng {
-    fn f(&mut self) -> f32 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, a: f32, b: f32) -> f32 {
-        a + (b - a) * self.f()
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                self.range(-1., 1.),
-                self.range(-1., 1.),
-                self.range(-1., 1.),
-            );
-            let l = v.length_squared();
-            if l > 1e-4 && l <= 1.0 {
-                return v / l.sqrt();
-            }
-        }
-    }
-}
+mod geometry_support;
+use geometry_support::Rng;
 
 /// All crossings along a ray, continuing from just beyond each `t_exit`.
 fn crossings(g: &SplatGeometry, ray: &Ray) -> Vec<filmsplat::geometry::SurfaceHit> {
