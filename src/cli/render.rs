@@ -232,7 +232,11 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let progress = !a.quiet && std::io::stderr().is_terminal();
     let prepared = pipeline::prepare(&desc, &base, progress)?;
     if !a.quiet {
-        for note in prepared.notes.iter().filter(|n| !n.is_empty()) {
+        for note in prepared
+            .notes
+            .iter()
+            .filter(|n| !n.is_empty() && !n.contains("nothing to fill"))
+        {
             let _ = writeln!(out, "{note}");
         }
     }
