@@ -382,3 +382,80 @@ fn convert_writes_what_was_read() {
     ]);
     assert_eq!(code, 2, "an explicitly named attribute must exist: {err}");
 }
+
+#[test]
+fn sequences_shard_resume_and_keep_going() {
+    let dir = tmp("seq");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (f, t) in [(0, "0"), (1, "0.5"), (2, "1"), (3, "1.5")] {
+        let ply = dir.join(format!("frame_{f:04}.ply"));
+        let (code, _, err) = filmsplat(&[
+            "sample",
+            "bubble",
+            "-o",
+            ply.to_str().unwrap(),
+            "--particles",
+            "1500",
+            "--time",
+            t,
+        ]);
+        assert_eq!(code, 0, "{err}");
+    }
+    let input = dir.join("frame_{:04}.ply");
+    let render = |out: &str, extra: &[&str]| {
+        let o = dir.join(out);
+        let mut args = vec![
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            o.to_str().unwrap(),
+            "--size",
+            "24x16",
+            "--spp",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        filmsplat(&args)
+    };
+    let (code, out, err) = render("all_{:02}.png", &["--frames", "0..4"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("frame 3"), "{out}");
+    for k in ["0/2", "1/2"] {
+        let (code, _, err) = render("shard_{:02}.png", &["--frames", "0..=3", "--shard", k]);
+        assert_eq!(code, 0, "{err}");
+    }
+    for f in 0..4 {
+        let a = std::fs::read(dir.join(format!("all_{f:02}.png"))).unwrap();
+        let b = std::fs::read(dir.join(format!("shard_{f:02}.png"))).unwrap();
+        assert_eq!(
+            a, b,
+            "frame {f}: sharded output must equal the unsharded one bit for bit"
+        );
+    }
+    assert_ne!(
+        std::fs::read(dir.join("all_00.png")).unwrap(),
+        std::fs::read(dir.join("all_03.png")).unwrap()
+    );
+    // --resume skips what exists.
+    std::fs::remove_file(dir.join("all_02.png")).unwrap();
+    let (code, out, err) = render("all_{:02}.png", &["--frames", "0..4", "--resume"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.matches("skipped").count(), 3, "{out}");
+    assert!(dir.join("all_02.png").exists());
+    // A missing frame: stops without --keep-going, the others still render with it.
+    std::fs::remove_file(dir.join("frame_0001.ply")).unwrap();
+    let (code, _, err) = render("kg_{:02}.png", &["--frames", "0..4"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("frame 1") && err.contains("frame_0001.ply"),
+        "{err}"
+    );
+    let (code, _, err) = render("kg_{:02}.png", &["--frames", "0..4", "--keep-going"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("1 of 4 frames failed"), "{err}");
+    assert!(dir.join("kg_03.png").exists() && !dir.join("kg_01.png").exists());
+    // Patterns are required.
+    let (code, _, err) = render("no_pattern.png", &["--frames", "0..2"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("frame pattern"), "{err}");
+}

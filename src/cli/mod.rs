@@ -9,6 +9,7 @@ mod info;
 mod parse;
 mod render;
 mod sample;
+mod sequence;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;

@@ -1,5 +1,6 @@
 //! `filmsplat render`: render a particle cloud or a scene file.
 
+use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
 use crate::scene::SceneDesc;
@@ -10,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Arguments of `filmsplat render`. Flags override the scene file.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 #[command(after_help = attribute_help())]
 pub struct RenderArgs {
     /// A particle file (.ply, .vtk, .vtu, .bgeo[.gz], .csv/.xyz), a frame folder of the
@@ -114,6 +115,26 @@ pub struct RenderArgs {
     /// and radii (says how many), instead of refusing the file.
     #[arg(long)]
     repair: bool,
+    /// Render a sequence: frame numbers A..B (B excluded) or A..=B. The input (or the scene's
+    /// input.cloud) and the output contain a frame pattern, {} or {:04} (zero-padded), e.g.
+    /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`. Each frame's seed
+    /// is the seed plus the frame number.
+    #[arg(long, value_parser = super::sequence::frame_list)]
+    frames: Option<sequence::FrameList>,
+    /// Render only every N-th frame of --frames, starting at the K-th (K/N, 0 <= K < N), so N
+    /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
+    #[arg(long, value_parser = super::sequence::shard)]
+    shard: Option<(u64, u64)>,
+    /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
+    #[arg(skip)]
+    frame: Option<u64>,
+    /// Skip frames whose output file already exists.
+    #[arg(long)]
+    resume: bool,
+    /// Report a frame that fails and go on with the others (exit code 2 at the end if any
+    /// failed), instead of stopping at the first.
+    #[arg(long)]
+    keep_going: bool,
     /// No progress bar or summary.
     #[arg(short, long)]
     quiet: bool,
@@ -187,6 +208,17 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     if a.no_blend {
         d.film.blend = Some(false);
     }
+    if let Some(f) = a.frame {
+        if let Some(cloud) = &d.input.cloud
+            && let Some(p) = sequence::expand(&cloud.to_string_lossy(), f)?
+        {
+            d.input.cloud = Some(PathBuf::from(p));
+        }
+        if d.input.sample.is_some() {
+            // A generated sample animates at 24 frames a second from its scene time.
+            d.input.time = Some(d.input.time.unwrap_or(0.0) + f as f32 / 24.0);
+        }
+    }
     if let Some((w, h)) = a.size {
         d.render.width = Some(w);
         d.render.height = Some(h);
@@ -209,8 +241,80 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     Ok((d, base))
 }
 
-/// Runs `filmsplat render`.
+/// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    let Some(frames) = &a.frames else {
+        return render_one(a, out);
+    };
+    let output = a.output.as_ref().ok_or_else(|| {
+        Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
+    })?;
+    let out_pattern = output.to_string_lossy().into_owned();
+    let in_pattern = a.input.to_string_lossy().into_owned();
+    let is_toml = a
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    if sequence::expand(&out_pattern, 0)?.is_none() {
+        return Err(Error::invalid(format!(
+            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
+        )));
+    }
+    if !is_toml && sequence::expand(&in_pattern, 0)?.is_none() {
+        return Err(Error::invalid(format!(
+            "{in_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in the input"
+        )));
+    }
+    let mine = sequence::sharded(&frames.0, a.shard);
+    let mut failed = Vec::new();
+    for (n, &f) in mine.iter().enumerate() {
+        let mut one = a.clone();
+        one.frames = None;
+        one.frame = Some(f);
+        one.output = Some(PathBuf::from(
+            sequence::expand(&out_pattern, f)?.expect("checked"),
+        ));
+        if let Some(exr) = &a.exr {
+            one.exr = sequence::expand(&exr.to_string_lossy(), f)?
+                .map(PathBuf::from)
+                .or(Some(exr.clone()));
+        }
+        if !is_toml {
+            one.input = PathBuf::from(sequence::expand(&in_pattern, f)?.expect("checked"));
+        }
+        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
+        let target = one.output.clone().expect("set");
+        if a.resume && target.exists() {
+            if !a.quiet {
+                let _ = writeln!(out, "frame {f}: {} exists, skipped", target.display());
+            }
+            continue;
+        }
+        if !a.quiet {
+            let _ = writeln!(out, "frame {f} ({}/{}):", n + 1, mine.len());
+        }
+        match render_one(&one, out) {
+            Ok(()) => {}
+            Err(e) if a.keep_going => {
+                eprintln!("filmsplat: error: frame {f}: {e}");
+                failed.push(f);
+            }
+            Err(e) => return Err(Error::invalid(format!("frame {f}: {e}"))),
+        }
+    }
+    if !failed.is_empty() {
+        return Err(Error::invalid(format!(
+            "{} of {} frames failed: {:?}",
+            failed.len(),
+            mine.len(),
+            failed
+        )));
+    }
+    Ok(())
+}
+
+/// Renders one image.
+fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let (desc, base) = scene_from_args(a)?;
     let output = match (&a.output, &desc.output.path) {
         (Some(o), _) => o.clone(),
