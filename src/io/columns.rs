@@ -98,17 +98,7 @@ impl Columns {
             }
         };
         let find = |name: &str| names.iter().position(|&s| s == name);
-        let triple = |p: &str| -> (Option<[usize; 3]>, bool) {
-            let mut partial = false;
-            for sep in ["", "_"] {
-                let f = ["x", "y", "z"].map(|a| find(&format!("{p}{sep}{a}")));
-                if let [Some(a), Some(b), Some(c)] = f {
-                    return (Some([a, b, c]), false);
-                }
-                partial |= f.iter().any(Option::is_some);
-            }
-            (None, partial)
-        };
+        let triple = |p: &str| find_triple(&find, p);
         let normal = match &opts.normal_attr {
             Some(p) => match triple(p) {
                 (Some(t), _) => Some(t),
@@ -200,6 +190,24 @@ impl Columns {
             extra,
         })
     }
+}
+
+/// Finds the three columns of a vector attribute with prefix `p`: `px py pz` or `p_x p_y p_z`,
+/// by `find(name) -> column`. Returns the columns, or `None` and whether some (but not all)
+/// of a triple exist (a partial triple is an error for the callers). Shared by every reader.
+pub(super) fn find_triple(
+    find: &dyn Fn(&str) -> Option<usize>,
+    p: &str,
+) -> (Option<[usize; 3]>, bool) {
+    let mut partial = false;
+    for sep in ["", "_"] {
+        let f = ["x", "y", "z"].map(|a| find(&format!("{p}{sep}{a}")));
+        if let [Some(a), Some(b), Some(c)] = f {
+            return (Some([a, b, c]), false);
+        }
+        partial |= f.iter().any(Option::is_some);
+    }
+    (None, partial)
 }
 
 #[cfg(test)]

@@ -194,17 +194,7 @@ fn resolve(v: &Element, opts: &ReadOptions) -> Result<Plan, String> {
     }
 
     // Normals: a prefix p means p+x/y/z or p+_x/_y/_z.
-    let triple = |p: &str| -> (Option<[usize; 3]>, bool) {
-        let mut partial = false;
-        for sep in ["", "_"] {
-            let found = ["x", "y", "z"].map(|a| find(&format!("{p}{sep}{a}")));
-            if let [Some(a), Some(b), Some(c)] = found {
-                return (Some([a, b, c]), false);
-            }
-            partial |= found.iter().any(Option::is_some);
-        }
-        (None, partial)
-    };
+    let triple = |p: &str| crate::io::columns::find_triple(&find, p);
     let normal = match &opts.normal_attr {
         Some(p) => match triple(p) {
             (Some(t), _) => Some(t),
