@@ -459,3 +459,62 @@ fn sequences_shard_resume_and_keep_going() {
     assert_eq!(code, 2);
     assert!(err.contains("frame pattern"), "{err}");
 }
+
+#[test]
+fn frame_folders_of_the_thin_film_code_render_as_a_sequence() {
+    // The research code's layout: u32 count, then f64 values; thickness in metres.
+    let n = 800u32;
+    for frame in [3u64, 4] {
+        let dir = tmp(&format!("ff/frame_{frame:04}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        let write = |name: &str, vals: &[f64]| {
+            let mut b = n.to_le_bytes().to_vec();
+            vals.iter()
+                .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+            std::fs::write(dir.join(name), b).unwrap();
+        };
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        let (mut x, mut rh) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - y * y).sqrt();
+            let a = golden * i as f64;
+            x.extend([r * a.cos(), y, r * a.sin()]);
+            rh.push((200.0 + 100.0 * frame as f64) * 1e-9);
+        }
+        write("x_bin", &x);
+        write("norm_bin", &x);
+        write("rh_bin", &rh);
+    }
+    let pattern = tmp("ff").join("frame_{:04}");
+    let out = tmp("ff").join("img_{:04}.exr");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        pattern.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--frames",
+        "3..=4",
+        "--size",
+        "32x24",
+        "--spp",
+        "1",
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for (frame, want) in [(3, 500.0), (4, 600.0)] {
+        let img =
+            filmsplat::image::read_exr(&tmp("ff").join(format!("img_{frame:04}.exr"))).unwrap();
+        let t: Vec<f32> = img
+            .thickness
+            .unwrap()
+            .into_iter()
+            .filter(|t| *t > 0.0)
+            .collect();
+        assert!(!t.is_empty());
+        assert!(
+            t.iter().all(|v| (v - want).abs() < 1.0),
+            "frame {frame}: metres become nm"
+        );
+    }
+}
