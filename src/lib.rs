@@ -21,8 +21,11 @@
 //! | [`render`] | camera, environment, integrator, film buffer | all above |
 //! | [`pipeline`] | scene description → particles → geometry → image files | all above |
 //! | [`cli`] | command-line front end | all |
+//!
+//! [`error`] and [`atomic`] (all-or-nothing file output) are shared utilities any stage may use.
 #![warn(missing_docs)]
 
+pub mod atomic;
 pub mod cli;
 pub mod error;
 pub mod figure;

@@ -19,7 +19,7 @@ use std::path::Path;
 use ::exr::prelude as x;
 use x::{ReadChannels, ReadLayers, WritableImage};
 
-use super::atomic::write_atomic;
+use crate::atomic::write_atomic;
 use crate::{Error, Result};
 
 /// Channel name of the depth layer.

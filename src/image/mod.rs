@@ -6,7 +6,6 @@
 //! the error type. Pixel buffers are row-major with the top row first; colours are linear RGB
 //! unless a function says otherwise.
 
-mod atomic;
 mod buffer;
 mod colormap;
 pub mod draw;
@@ -16,7 +15,7 @@ mod png;
 pub mod text;
 mod tonemap;
 
-pub use atomic::write_atomic;
+pub use crate::atomic::write_atomic;
 pub use buffer::RgbImage;
 pub use colormap::viridis;
 pub use draw::{blend, draw_line, fill_rect, stroke_rect};

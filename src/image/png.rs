@@ -5,9 +5,9 @@ use std::path::Path;
 use ::image::codecs::png::PngEncoder;
 use ::image::{ExtendedColorType, ImageEncoder};
 
-use super::atomic::write_atomic;
 use super::buffer::RgbImage;
 use super::tonemap::{ToneMap, to_srgb8};
+use crate::atomic::write_atomic;
 use crate::{Error, Result};
 
 /// Writes packed sRGB-encoded RGB8 pixels (`3 * width * height` bytes, top row first) as a PNG.
