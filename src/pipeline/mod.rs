@@ -16,7 +16,9 @@ use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::curvature::{curvature_from_table, gradient_from_table};
 use crate::pointcloud::knn::KnnTable;
-use crate::pointcloud::{EstimateOptions, PointCloud, fill_missing, repair, validate};
+use crate::pointcloud::{
+    EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
+};
 use crate::render::{
     Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode,
     Studio, View, ViewImage,
@@ -220,7 +222,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         t.iter_mut().for_each(|v| *v *= thickness_scale);
     }
     let had_radius = cloud.radius.is_some();
-    let report = fill_missing(
+    let (report, neighbours) = fill_missing_keeping_table(
         &mut cloud,
         &EstimateOptions {
             default_thickness_nm: default_thickness,
@@ -270,7 +272,11 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     }
     if primitive == Primitive::Disk && desc.film.curvature != Some(false) {
         // First-order splats: normals tilt with the curvature, thickness follows its gradient.
-        let table = KnnTable::build(&cloud.positions, DETAIL_NEIGHBOURS);
+        // Reuse the estimate's neighbour table when it has enough neighbours per particle.
+        let table = match neighbours {
+            Some(t) if t.k >= DETAIL_NEIGHBOURS => t,
+            _ => KnnTable::build(&cloud.positions, DETAIL_NEIGHBOURS),
+        };
         geometry.set_curvature(&curvature_from_table(&cloud.positions, normals, &table))?;
         geometry.set_thickness_gradient(&gradient_from_table(
             &cloud.positions,

@@ -345,6 +345,15 @@ impl std::fmt::Display for EstimateReport {
 /// present ones take the sign of their neighbours' input normals. One kNN table with
 /// k = max(k_normals, k_radius) serves both estimates. Cost: see [`estimate_normals_detailed`].
 pub fn fill_missing(cloud: &mut PointCloud, opts: &EstimateOptions) -> EstimateReport {
+    fill_missing_keeping_table(cloud, opts).0
+}
+
+/// [`fill_missing`], also handing back the kNN table it built (if it needed one), so a caller
+/// that needs neighbours too (e.g. the curvature estimate) does not search them again.
+pub fn fill_missing_keeping_table(
+    cloud: &mut PointCloud,
+    opts: &EstimateOptions,
+) -> (EstimateReport, Option<KnnTable>) {
     let n = cloud.len();
     let mut report = EstimateReport {
         particles: n,
@@ -431,7 +440,7 @@ pub fn fill_missing(cloud: &mut PointCloud, opts: &EstimateOptions) -> EstimateR
         cloud.thickness_nm = Some(vec![opts.default_thickness_nm; n]);
         report.thickness_filled = n;
     }
-    report
+    (report, table)
 }
 
 /// PCA for the `need`ed entries of present normals, signed to agree with neighbouring input

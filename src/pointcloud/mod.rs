@@ -12,7 +12,7 @@ pub mod orient;
 pub mod stats;
 pub mod validate;
 
-pub use estimate::{EstimateOptions, EstimateReport, fill_missing};
+pub use estimate::{EstimateOptions, EstimateReport, fill_missing, fill_missing_keeping_table};
 pub use stats::{CloudStats, compute_stats};
 pub use validate::{RepairReport, repair, validate};
 
