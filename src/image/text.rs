@@ -268,21 +268,9 @@ pub fn draw_text(
     if !(size_px > 0.0 && size_px.is_finite() && x.is_finite() && y.is_finite()) {
         return;
     }
-    let f = font();
-    let (u, v) = origin(f, text, size_px, x, y, anchor);
-    let Some(m) = render_mask(f, text, size_px, u, v) else {
-        return;
-    };
-    for r in 0..m.h {
-        for c in 0..m.w {
-            let a = m.cov[r * m.w + c];
-            if a > 0.0
-                && let Some(px) = img.pixel_mut_checked(m.u0 + c as i64, m.v0 + r as i64)
-            {
-                blend(px, colour, a.min(1.0));
-            }
-        }
-    }
+    stamp(img, (x, y), text, size_px, colour, anchor, |cu, cv| {
+        (cu, cv)
+    });
 }
 
 /// Like [`draw_text`] but rotated 90 degrees counter-clockwise: the text reads bottom to top
@@ -300,10 +288,26 @@ pub fn draw_text_vertical(
     if !(size_px > 0.0 && size_px.is_finite() && x.is_finite() && y.is_finite()) {
         return;
     }
-    let f = font();
     // Text frame (u along the text, v "down" the glyphs) maps to the image as u = -y, v = x;
     // frame cell (cu, cv) is image pixel (cv, -cu - 1).
-    let (u, v) = origin(f, text, size_px, -y, x, anchor);
+    stamp(img, (-y, x), text, size_px, colour, anchor, |cu, cv| {
+        (cv, -cu - 1)
+    });
+}
+
+/// Renders `text` anchored at `at` in the text's own frame and blends each inked cell into the
+/// image pixel `to_image(cu, cv)` (identity for horizontal text, a rotation for vertical).
+fn stamp(
+    img: &mut RgbImage,
+    at: (f32, f32),
+    text: &str,
+    size_px: f32,
+    colour: [f32; 3],
+    anchor: Anchor,
+    to_image: impl Fn(i64, i64) -> (i64, i64),
+) {
+    let f = font();
+    let (u, v) = origin(f, text, size_px, at.0, at.1, anchor);
     let Some(m) = render_mask(f, text, size_px, u, v) else {
         return;
     };
@@ -311,8 +315,8 @@ pub fn draw_text_vertical(
         for c in 0..m.w {
             let a = m.cov[r * m.w + c];
             if a > 0.0 {
-                let (cu, cv) = (m.u0 + c as i64, m.v0 + r as i64);
-                if let Some(px) = img.pixel_mut_checked(cv, -cu - 1) {
+                let (ix, iy) = to_image(m.u0 + c as i64, m.v0 + r as i64);
+                if let Some(px) = img.pixel_mut_checked(ix, iy) {
                     blend(px, colour, a.min(1.0));
                 }
             }
