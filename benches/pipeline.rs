@@ -133,7 +133,7 @@ fn main() {
             .sum();
         let primary = (w * h) as f64 / t.elapsed().as_secs_f64() / 1e6;
         let scene = Scene {
-            geometry,
+            geometry: geometry.into(),
             camera,
             environment: Environment::Studio(Studio::default()),
             layer_skip: 0.5 * radii[0],

@@ -31,7 +31,7 @@ fn big_disk_scene(thickness: f32, env: Environment) -> Scene {
     )
     .unwrap();
     Scene {
-        geometry,
+        geometry: geometry.into(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 10.0),
         environment: env,
         layer_skip: 1e-3,
@@ -92,7 +92,7 @@ fn a_white_furnace_makes_a_lossless_film_vanish() {
         4.0 / 3.0,
     );
     let scene = Scene {
-        geometry,
+        geometry: geometry.into(),
         camera,
         environment: Environment::Uniform(Vec3::ONE),
         layer_skip: 0.005,
@@ -173,7 +173,7 @@ fn overlapping_splats_make_one_seamless_film() {
     )
     .unwrap();
     let scene = Scene {
-        geometry,
+        geometry: geometry.into(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 20.0), Vec3::ZERO, Vec3::Y, 7.0),
         environment: front_white_back_black(),
         layer_skip: 0.5 * spacing,

@@ -373,7 +373,7 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             out,
             "{} particles ({}): load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); wrote {}",
             prepared.particles,
-            prepared.scene.geometry.primitive(),
+            prepared.scene.geometry,
             prepared.load_time.as_secs_f64(),
             prepared.estimate_time.as_secs_f64(),
             prepared.build_time.as_secs_f64(),

@@ -8,6 +8,7 @@
 //! * [`primitives`]: ray–disk and ray–sphere tests and primitive bounds.
 //! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
 //! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
+//! * [`FilmGeometry`]: the closed set of film geometries the renderer goes through.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
 
 mod aabb;
@@ -15,6 +16,7 @@ mod blend;
 mod bvh;
 mod bvh_build;
 mod disk4;
+mod film;
 pub mod primitives;
 mod query;
 mod splat;
@@ -28,6 +30,7 @@ use glam::Vec3;
 pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{Bvh, BvhNode, BvhParams};
+pub use film::FilmGeometry;
 pub use splat::{SplatGeometry, SurfaceHit};
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`

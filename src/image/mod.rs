@@ -1,6 +1,6 @@
 //! Image stage: linear-RGB pixel buffers, exposure and tone mapping to sRGB8, atomic PNG and
 //! EXR output, EXR input (environment maps), and chart drawing (text, lines, rectangles,
-//! viridis colour map).
+//! viridis colour map), and image-comparison metrics (PSNR, SSIM, CIEDE2000).
 //!
 //! Everything here works on plain pixel arrays and imports nothing else from the crate except
 //! the error type. Pixel buffers are row-major with the top row first; colours are linear RGB
@@ -11,6 +11,7 @@ mod colormap;
 pub mod draw;
 pub mod exr;
 mod font;
+pub mod metrics;
 mod png;
 pub mod text;
 mod tonemap;

@@ -315,7 +315,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {
         scene: Scene {
-            geometry,
+            geometry: geometry.into(),
             camera,
             environment,
             layer_skip,

@@ -11,7 +11,7 @@ use super::camera::Camera;
 use super::environment::Environment;
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading};
-use crate::geometry::{Ray, SplatGeometry, SurfaceHit};
+use crate::geometry::{FilmGeometry, Ray, SurfaceHit};
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -20,7 +20,7 @@ use rayon::prelude::*;
 #[derive(Debug)]
 pub struct Scene {
     /// The films.
-    pub geometry: SplatGeometry,
+    pub geometry: FilmGeometry,
     /// The camera.
     pub camera: Camera,
     /// The lighting.

@@ -222,7 +222,7 @@ mod tests {
         )
         .unwrap();
         let scene = Scene {
-            geometry,
+            geometry: geometry.into(),
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
             environment: Environment::Uniform(Vec3::ONE),
             layer_skip: 0.1,
