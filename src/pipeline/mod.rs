@@ -20,8 +20,8 @@ use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
 };
 use crate::render::{
-    Camera, Environment, FilmShader, LatLongMap, RenderOutput, RenderSettings, Scene, ShadingMode,
-    Studio, View, ViewImage,
+    Camera, Environment, FilmShader, LatLongMap, Preset, RenderOutput, RenderSettings, Scene,
+    ShadingMode, Studio, View, ViewImage,
 };
 use crate::samples::{BubbleParams, bubble};
 use crate::scene::SceneDesc;
@@ -144,8 +144,10 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let ior = desc.film.ior.unwrap_or(1.33);
     check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
     let primitive: Primitive = parse_enum(&desc.film.primitive, Primitive::Disk, "film.primitive")?;
+    let preset: Preset = parse_enum(&desc.render.preset, Preset::Balanced, "render.preset")?;
+    let defaults = preset.values();
     let shading: ShadingMode =
-        parse_enum(&desc.render.shading, ShadingMode::Lut, "render.shading")?;
+        parse_enum(&desc.render.shading, defaults.shading, "render.shading")?;
     let strategy: WavelengthStrategy = parse_enum(
         &desc.render.strategy,
         WavelengthStrategy::Jittered,
@@ -157,9 +159,9 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let settings = RenderSettings {
         width: r.width.unwrap_or(960),
         height: r.height.unwrap_or(540),
-        spp: r.spp.unwrap_or(4),
-        max_depth: r.max_depth.unwrap_or(12).min(64),
-        min_weight: r.min_weight.unwrap_or(1e-3),
+        spp: r.spp.unwrap_or(defaults.spp),
+        max_depth: r.max_depth.unwrap_or(defaults.max_depth).min(64),
+        min_weight: r.min_weight.unwrap_or(defaults.min_weight),
         seed: r.seed.unwrap_or(0),
         progress,
     };
@@ -176,7 +178,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     if settings.spp == 0 {
         return Err(Error::invalid("render.spp must be at least 1"));
     }
-    let wavelengths = r.wavelengths.unwrap_or(16);
+    let wavelengths = r.wavelengths.unwrap_or(defaults.wavelengths);
     if !(1..=crate::spectrum::wavelengths::MAX_WAVELENGTHS).contains(&wavelengths) {
         return Err(Error::invalid(format!(
             "render.wavelengths must be 1..={}, got {wavelengths}",

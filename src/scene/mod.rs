@@ -115,15 +115,19 @@ pub struct EnvironmentDesc {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderDesc {
+    /// "preview", "balanced" (default) or "final": fills spp, max_depth, min_weight, shading and
+    /// wavelengths where they are not set.
+    pub preset: Option<String>,
     /// Image width, pixels (default 960).
     pub width: Option<usize>,
     /// Image height, pixels (default 540).
     pub height: Option<usize>,
-    /// Samples per pixel (default 4).
+    /// Samples per pixel (default: from the preset, 4 for balanced).
     pub spp: Option<u32>,
-    /// Most film crossings along a path (default 12).
+    /// Most film crossings along a path (default: from the preset, 12 for balanced).
     pub max_depth: Option<u32>,
-    /// Branch weight below which a path escapes to the environment (default 1e-3).
+    /// Branch weight below which a path escapes to the environment (default: from the preset,
+    /// 1e-3 for balanced).
     pub min_weight: Option<f32>,
     /// Random seed (default 0).
     pub seed: Option<u64>,
