@@ -162,6 +162,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         min_weight: r.min_weight.unwrap_or(1e-3),
         seed: r.seed.unwrap_or(0),
         progress,
+        ..RenderSettings::default()
     };
     if settings.width == 0
         || settings.height == 0
@@ -320,6 +321,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             environment,
             layer_skip,
             epsilon,
+            staging: Default::default(),
         },
         shader,
         settings,
