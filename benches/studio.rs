@@ -37,7 +37,10 @@ fn display(p: &Prepared, spp: u32, shader: &FilmShader) -> (RgbImage, f64) {
         .iter()
         .map(|c| c.to_array().map(|v| ToneMap::Filmic.apply(v * k)))
         .collect();
-    (RgbImage::from_data(out.width, out.height, data).unwrap(), secs)
+    (
+        RgbImage::from_data(out.width, out.height, data).unwrap(),
+        secs,
+    )
 }
 
 fn main() {
@@ -60,8 +63,11 @@ fn main() {
     let _ = render(&p);
     let jit = WavelengthStrategy::Jittered;
     let ior = p.shader.ior();
-    let (reference, ref_secs) =
-        display(&p, ref_spp, &FilmShader::new(ior, ShadingMode::Spectral, 16, jit));
+    let (reference, ref_secs) = display(
+        &p,
+        ref_spp,
+        &FilmShader::new(ior, ShadingMode::Spectral, 16, jit),
+    );
     println!(
         "studio scene, {particles} particles, {w}x{h}, {spp} spp, {} threads; reference: spectral, \
          16 wavelengths, {ref_spp} spp ({ref_secs:.1} s)\n",
@@ -82,7 +88,11 @@ fn main() {
         let build = t.elapsed().as_secs_f64();
         let (img, secs) = display(&p, spp, &shader);
         let e = delta_e_stats(&img, &reference).unwrap();
-        let nl = if n == 0 { "—".to_string() } else { n.to_string() };
+        let nl = if n == 0 {
+            "—".to_string()
+        } else {
+            n.to_string()
+        };
         println!(
             "| {mode} | {nl} | {:.2} | {:.2} | {:.2} |",
             secs + build,

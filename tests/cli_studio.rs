@@ -96,7 +96,10 @@ fn studio_errors_name_the_entry_line_and_key() {
     let with = |from: &str, to: &str| STUDIO.replacen(from, to, 1);
     let cases = [
         (
-            with("shape = \"sphere\"\nposition = [2.0", "shape = \"point\"\nposition = [2.0"),
+            with(
+                "shape = \"sphere\"\nposition = [2.0",
+                "shape = \"point\"\nposition = [2.0",
+            ),
             vec!["light 2 (line 17)", "point", "sphere"],
         ),
         (
@@ -143,7 +146,15 @@ fn studio_errors_name_the_entry_line_and_key() {
     // Spectral transport carries at most 16 wavelengths.
     let scene = write("ok-studio.toml", STUDIO);
     let (code, _, err) = filmsplat(&[
-        "render", &scene, "--shading", "spectral", "--wavelengths", "32", "--size", "8x8", "-o",
+        "render",
+        &scene,
+        "--shading",
+        "spectral",
+        "--wavelengths",
+        "32",
+        "--size",
+        "8x8",
+        "-o",
         tmp("never.png").to_str().unwrap(),
     ]);
     assert_eq!(code, 2, "{err}");

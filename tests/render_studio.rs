@@ -2,8 +2,8 @@
 
 use filmsplat::geometry::{Primitive, Props, Shape, SplatGeometry};
 use filmsplat::render::{
-    AreaLight, Camera, Environment, FilmShader, LightShape, Material, RenderOutput,
-    RenderSettings, Scene, ShadingMode, Staging, render,
+    AreaLight, Camera, Environment, FilmShader, LightShape, Material, RenderOutput, RenderSettings,
+    Scene, ShadingMode, Staging, render,
 };
 use filmsplat::spectrum::WavelengthStrategy;
 use glam::Vec3;
@@ -76,7 +76,10 @@ fn an_area_light_seen_directly_has_its_radiance() {
         let out = render(&scene, &shader, &settings(16, 12, 64)).unwrap();
         let m = mean(&out);
         let tol = if mode == ShadingMode::Lut { 1e-5 } else { 0.06 };
-        assert!((m - radiance).abs().max_element() < tol * radiance.max_element(), "{mode}: {m}");
+        assert!(
+            (m - radiance).abs().max_element() < tol * radiance.max_element(),
+            "{mode}: {m}"
+        );
     }
     // From behind, a rectangle is black (it emits from its front only).
     scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 30.0);
@@ -92,7 +95,10 @@ fn white_furnace_ground_returns_the_environment() {
     // 12288 samples of a weighted estimator with per-sample spread well under 1.
     assert!((m - Vec3::ONE).abs().max_element() < 0.01, "{m}");
     for c in &out.rgb {
-        assert!(c.is_finite() && c.min_element() > 0.2 && c.max_element() < 2.0, "{c}");
+        assert!(
+            c.is_finite() && c.min_element() > 0.2 && c.max_element() < 2.0,
+            "{c}"
+        );
     }
 }
 
@@ -127,7 +133,10 @@ fn light_sampling_and_material_sampling_agree_in_the_mean() {
     )
     .unwrap();
     let (a, b) = (mean(&nee), mean(&bsdf));
-    assert!((a - b).abs().max_element() < 0.03 * a.max_element(), "{a} vs {b}");
+    assert!(
+        (a - b).abs().max_element() < 0.03 * a.max_element(),
+        "{a} vs {b}"
+    );
     // And light sampling is the less noisy of the two.
     let var = |o: &RenderOutput, m: Vec3| {
         o.rgb.iter().map(|c| (*c - m).length_squared()).sum::<f32>() / o.rgb.len() as f32
@@ -165,12 +174,22 @@ fn spectral_transport_of_a_grey_environment_matches_rgb() {
     for thickness in [250.0, 480.0] {
         let scene = film_scene(thickness);
         let rgb = FilmShader::new(1.33, ShadingMode::Rgb, 16, WavelengthStrategy::Jittered);
-        let spectral =
-            FilmShader::new(1.33, ShadingMode::Spectral, 16, WavelengthStrategy::Jittered);
+        let spectral = FilmShader::new(
+            1.33,
+            ShadingMode::Spectral,
+            16,
+            WavelengthStrategy::Jittered,
+        );
         let a = mean(&render(&scene, &rgb, &settings(16, 12, 16)).unwrap());
         let b = mean(&render(&scene, &spectral, &settings(16, 12, 16)).unwrap());
         let reference = mean(&render(&scene, &lut(), &settings(4, 3, 1)).unwrap());
-        assert!((a - reference).abs().max_element() < 0.01, "{thickness}: rgb {a} vs {reference}");
-        assert!((b - reference).abs().max_element() < 0.01, "{thickness}: spectral {b} vs {reference}");
+        assert!(
+            (a - reference).abs().max_element() < 0.01,
+            "{thickness}: rgb {a} vs {reference}"
+        );
+        assert!(
+            (b - reference).abs().max_element() < 0.01,
+            "{thickness}: spectral {b} vs {reference}"
+        );
     }
 }

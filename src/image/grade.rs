@@ -168,7 +168,10 @@ mod tests {
         let (x0, y0) = planck_xy(6504.0);
         let neutral = xy_to_rgb(x0, y0);
         let out = [0, 1, 2].map(|i| warm[i] * gains[i] / neutral[i]);
-        assert!((out[0] - out[2]).abs() < 1e-3 && (out[1] - out[2]).abs() < 1e-3, "{out:?}");
+        assert!(
+            (out[0] - out[2]).abs() < 1e-3 && (out[1] - out[2]).abs() < 1e-3,
+            "{out:?}"
+        );
         assert!(gains[2] > gains[0], "warm light: boost blue");
         // Contrast pivots on mid-grey; saturation 0 gives grey of the same luminance.
         let c = Grade {
@@ -180,6 +183,13 @@ mod tests {
         assert!((p[0] - 0.18).abs() < 1e-6);
         let q = c.pixel([0.5, 0.2, 0.1]);
         assert!((q[0] - q[1]).abs() < 1e-6 && (q[1] - q[2]).abs() < 1e-6);
-        assert!(Grade { contrast: 0.0, ..Grade::default() }.validate().is_err());
+        assert!(
+            Grade {
+                contrast: 0.0,
+                ..Grade::default()
+            }
+            .validate()
+            .is_err()
+        );
     }
 }

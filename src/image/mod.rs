@@ -21,8 +21,8 @@ pub use crate::atomic::write_atomic;
 pub use buffer::RgbImage;
 pub use colormap::viridis;
 pub use draw::{blend, draw_line, fill_rect, stroke_rect};
-pub use grade::Grade;
 pub use exr::{ExrLayers, read_exr, read_exr_rgba, write_exr};
+pub use grade::Grade;
 pub use png::{save_png, write_png, write_png_rgba};
 pub use text::{
     Anchor, FontMetrics, HAlign, VAlign, draw_text, draw_text_vertical, font_metrics, text_width,

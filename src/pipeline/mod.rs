@@ -386,7 +386,11 @@ fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Cam
         }
         None => {
             let from = vec3(c.from.unwrap_or([0.35, 0.3, 1.0]), "camera.from")?;
-            lens(c, Camera::frame(centre, reach, from, up, fov, aspect), centre)
+            lens(
+                c,
+                Camera::frame(centre, reach, from, up, fov, aspect),
+                centre,
+            )
         }
     }
 }

@@ -86,7 +86,9 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
     let shape = match l.shape.get_ref().as_str() {
         "rect" | "rectangle" => {
             let n = facing()?;
-            let [w, h] = l.size.ok_or_else(|| e("size = [width, height] is required".into()))?;
+            let [w, h] = l
+                .size
+                .ok_or_else(|| e("size = [width, height] is required".into()))?;
             if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
                 return Err(e(format!("size must be > 0, got [{w}, {h}]")));
             }
@@ -159,8 +161,7 @@ fn prop(i: usize, p: &PropDesc) -> Result<(Shape, Material)> {
         "cylinder" => Shape::Cylinder {
             base: position,
             axis: axis()?,
-            height: positive(p.height)
-                .ok_or_else(|| e("height must be given and > 0".into()))?,
+            height: positive(p.height).ok_or_else(|| e("height must be given and > 0".into()))?,
             radius: radius()?,
         },
         "torus" => {

@@ -133,8 +133,8 @@ impl Camera {
                 std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a / b),
             )
         };
-        let origin = self.position
-            + self.lens_radius * r * (phi.cos() * self.right + phi.sin() * self.up);
+        let origin =
+            self.position + self.lens_radius * r * (phi.cos() * self.right + phi.sin() * self.up);
         Ray {
             origin,
             dir: (focus - origin).normalize(),

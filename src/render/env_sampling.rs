@@ -79,9 +79,13 @@ impl EnvSampler {
         }
         let total: f32 = weight.iter().sum();
         let cell: Vec<f32> = weight.iter().map(|w| w / total).collect();
-        let row_sums: Vec<f32> = (0..H).map(|y| cell[y * W..(y + 1) * W].iter().sum()).collect();
+        let row_sums: Vec<f32> = (0..H)
+            .map(|y| cell[y * W..(y + 1) * W].iter().sum())
+            .collect();
         let rows = cdf(&row_sums);
-        let cols = (0..H).flat_map(|y| cdf(&cell[y * W..(y + 1) * W])).collect();
+        let cols = (0..H)
+            .flat_map(|y| cdf(&cell[y * W..(y + 1) * W]))
+            .collect();
         EnvSampler { rows, cols, cell }
     }
 

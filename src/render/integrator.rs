@@ -167,7 +167,14 @@ pub fn render(
                         rays: 0,
                     };
                     let px = Px { x, y, aspect };
-                    pixels.push(render_pixel(&tracer, shader, px, &mut st, &mut shading, &mut u));
+                    pixels.push(render_pixel(
+                        &tracer,
+                        shader,
+                        px,
+                        &mut st,
+                        &mut shading,
+                        &mut u,
+                    ));
                     rays += st.rays;
                 }
             }

@@ -83,8 +83,8 @@ impl AreaLight {
                     return None;
                 }
                 let d = ray.at(t) - centre;
-                let inside = d.dot(u).abs() <= u.length_squared()
-                    && d.dot(v).abs() <= v.length_squared();
+                let inside =
+                    d.dot(u).abs() <= u.length_squared() && d.dot(v).abs() <= v.length_squared();
                 inside.then_some((t, denom < 0.0))
             }
             LightShape::Disk {
@@ -139,7 +139,11 @@ impl AreaLight {
     /// sample cannot carry light (behind the emitting side, or `p` inside a sphere light).
     pub fn sample(&self, p: Vec3, u: (f32, f32)) -> Option<LightSample> {
         match self.shape {
-            LightShape::Rect { centre, u: eu, v: ev } => {
+            LightShape::Rect {
+                centre,
+                u: eu,
+                v: ev,
+            } => {
                 let q = centre + (2.0 * u.0 - 1.0) * eu + (2.0 * u.1 - 1.0) * ev;
                 let n = eu.cross(ev).normalize();
                 area_sample(p, q, n, self.area())
@@ -238,7 +242,12 @@ pub fn frame(n: Vec3) -> (Vec3, Vec3) {
 
 /// The nearest light along `ray` within (t_min, t_max): index, distance, front side.
 #[inline]
-pub fn nearest(lights: &[AreaLight], ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, f32, bool)> {
+pub fn nearest(
+    lights: &[AreaLight],
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<(usize, f32, bool)> {
     let mut best = None;
     let mut t_max = t_max;
     for (i, l) in lights.iter().enumerate() {
@@ -309,7 +318,10 @@ mod tests {
                 }
             }
             let brute = 4.0 * std::f64::consts::PI * hits as f64 / m as f64;
-            assert!((solid - brute).abs() < 0.03 * brute, "{shape:?}: {solid} vs {brute}");
+            assert!(
+                (solid - brute).abs() < 0.03 * brute,
+                "{shape:?}: {solid} vs {brute}"
+            );
         }
     }
 }

@@ -98,7 +98,7 @@ impl Material {
     pub fn mirror_reflectance<L: Lanes>(&self, lanes: &L, cos: f32) -> L::C {
         match self {
             Material::Metal { colour, .. } => {
-                let f0 = lanes.from_rgb(*colour);
+                let f0 = lanes.input(*colour);
                 f0 + (L::C::splat(1.0) - f0) * schlick(cos)
             }
             _ => L::C::splat(0.0),
@@ -111,15 +111,15 @@ impl Material {
             return L::C::splat(0.0);
         }
         match *self {
-            Material::Diffuse { albedo } => lanes.from_rgb(albedo) * FRAC_1_PI,
+            Material::Diffuse { albedo } => lanes.input(albedo) * FRAC_1_PI,
             Material::Glossy { albedo, roughness } => {
                 let (spec, c) = ggx(n, wo, wi, alpha(roughness));
                 let f = COAT_F0 + (1.0 - COAT_F0) * schlick(c);
-                lanes.from_rgb(albedo) * ((1.0 - COAT_F0) * FRAC_1_PI) + L::C::splat(spec * f)
+                lanes.input(albedo) * ((1.0 - COAT_F0) * FRAC_1_PI) + L::C::splat(spec * f)
             }
             Material::Metal { colour, roughness } => {
                 let (spec, c) = ggx(n, wo, wi, alpha(roughness));
-                let f0 = lanes.from_rgb(colour);
+                let f0 = lanes.input(colour);
                 (f0 + (L::C::splat(1.0) - f0) * schlick(c)) * spec
             }
         }
@@ -168,7 +168,7 @@ mod tests {
         fn film_reflectance(&self, _: f32, _: f32) -> Vec3 {
             Vec3::ZERO
         }
-        fn from_rgb(&self, c: Vec3) -> Vec3 {
+        fn input(&self, c: Vec3) -> Vec3 {
             c
         }
         fn to_rgb(&self, c: Vec3) -> Vec3 {
@@ -199,7 +199,8 @@ mod tests {
             let k = 200_000;
             let (mut by_sample, mut uniform) = (0.0f64, 0.0f64);
             for _ in 0..k {
-                if let Some(wi) = m.sample(n, wo, (rng.next_f32(), rng.next_f32(), rng.next_f32())) {
+                if let Some(wi) = m.sample(n, wo, (rng.next_f32(), rng.next_f32(), rng.next_f32()))
+                {
                     let pdf = m.pdf(n, wo, wi);
                     if pdf > 0.0 {
                         by_sample += (m.eval(&Grey, n, wo, wi).x * n.dot(wi) / pdf) as f64;

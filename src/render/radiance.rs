@@ -92,7 +92,7 @@ pub trait Lanes {
     /// Film reflectance at `|cos θ|` = `cos_i` for a film `thickness_nm` thick.
     fn film_reflectance(&self, cos_i: f32, thickness_nm: f32) -> Self::C;
     /// An RGB input (radiance or reflectance) as carried.
-    fn from_rgb(&self, rgb: Vec3) -> Self::C;
+    fn input(&self, rgb: Vec3) -> Self::C;
     /// Carried radiance to linear sRGB.
     fn to_rgb(&self, c: Self::C) -> Vec3;
 }
@@ -112,7 +112,7 @@ impl Lanes for RgbLanes<'_> {
         self.shader.reflectance(self.state, cos_i, thickness_nm)
     }
     #[inline]
-    fn from_rgb(&self, rgb: Vec3) -> Vec3 {
+    fn input(&self, rgb: Vec3) -> Vec3 {
         rgb
     }
     #[inline]
@@ -126,13 +126,27 @@ const SMITS_MIN_NM: f32 = 380.0;
 const SMITS_STEP_NM: f32 = 340.0 / 9.0;
 /// Smits (1999), table 1: white, cyan, magenta, yellow, red, green, blue.
 const SMITS: [[f32; 10]; 7] = [
-    [1.0000, 1.0000, 0.9999, 0.9993, 0.9992, 0.9998, 1.0000, 1.0000, 1.0000, 1.0000],
-    [0.9710, 0.9426, 1.0007, 1.0007, 1.0007, 1.0007, 0.1564, 0.0000, 0.0000, 0.0000],
-    [1.0000, 1.0000, 0.9685, 0.2229, 0.0000, 0.0458, 0.8369, 1.0000, 1.0000, 0.9959],
-    [0.0001, 0.0000, 0.1088, 0.6651, 1.0000, 1.0000, 0.9996, 0.9586, 0.9685, 0.9840],
-    [0.1012, 0.0515, 0.0000, 0.0000, 0.0000, 0.0000, 0.8325, 1.0149, 1.0149, 1.0149],
-    [0.0000, 0.0000, 0.0273, 0.7937, 1.0000, 0.9418, 0.1719, 0.0000, 0.0000, 0.0025],
-    [1.0000, 1.0000, 0.8916, 0.3323, 0.0000, 0.0000, 0.0003, 0.0369, 0.0483, 0.0496],
+    [
+        1.0000, 1.0000, 0.9999, 0.9993, 0.9992, 0.9998, 1.0000, 1.0000, 1.0000, 1.0000,
+    ],
+    [
+        0.9710, 0.9426, 1.0007, 1.0007, 1.0007, 1.0007, 0.1564, 0.0000, 0.0000, 0.0000,
+    ],
+    [
+        1.0000, 1.0000, 0.9685, 0.2229, 0.0000, 0.0458, 0.8369, 1.0000, 1.0000, 0.9959,
+    ],
+    [
+        0.0001, 0.0000, 0.1088, 0.6651, 1.0000, 1.0000, 0.9996, 0.9586, 0.9685, 0.9840,
+    ],
+    [
+        0.1012, 0.0515, 0.0000, 0.0000, 0.0000, 0.0000, 0.8325, 1.0149, 1.0149, 1.0149,
+    ],
+    [
+        0.0000, 0.0000, 0.0273, 0.7937, 1.0000, 0.9418, 0.1719, 0.0000, 0.0000, 0.0025,
+    ],
+    [
+        1.0000, 1.0000, 0.8916, 0.3323, 0.0000, 0.0000, 0.0003, 0.0369, 0.0483, 0.0496,
+    ],
 ];
 
 /// Smits basis spectrum `k` at `lambda_nm` (linear between samples, constant outside).
@@ -197,7 +211,7 @@ impl Lanes for SpectralLanes {
     /// Smits' construction: the smallest channel's amount of white, then the secondary and
     /// primary colours that make up the rest.
     #[inline]
-    fn from_rgb(&self, c: Vec3) -> Spectrum {
+    fn input(&self, c: Vec3) -> Spectrum {
         let [w, cy, ma, ye, re, gr, bl] = self.basis;
         let (r, g, b) = (c.x, c.y, c.z);
         if r <= g && r <= b {
@@ -245,7 +259,12 @@ mod tests {
     /// saturated colours approximately (Smits' basis is a fit, not an inverse).
     #[test]
     fn smits_round_trip() {
-        let shader = FilmShader::new(1.33, ShadingMode::Spectral, 16, WavelengthStrategy::Jittered);
+        let shader = FilmShader::new(
+            1.33,
+            ShadingMode::Spectral,
+            16,
+            WavelengthStrategy::Jittered,
+        );
         let mut state = SampleShading::default();
         let mut rng = Pcg32::new(1, 2);
         for (rgb, tol) in [
@@ -260,7 +279,7 @@ mod tests {
                 let u: Vec<f32> = (0..16).map(|_| rng.next_f32()).collect();
                 shader.begin_sample(&mut state, &u);
                 let lanes = SpectralLanes::new(&state, 1.33);
-                sum += lanes.to_rgb(lanes.from_rgb(rgb));
+                sum += lanes.to_rgb(lanes.input(rgb));
             }
             let mean = sum / n as f32;
             assert!((mean - rgb).abs().max_element() < tol, "{rgb} → {mean}");

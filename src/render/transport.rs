@@ -88,9 +88,9 @@ impl<'a> Tracer<'a> {
         if !lights.is_empty()
             && let Some((i, _, front)) = nearest(lights, ray, t_min, f32::INFINITY)
         {
-            return l.from_rgb(lights[i].emitted(front));
+            return l.input(lights[i].emitted(front));
         }
-        l.from_rgb(self.scene.environment.radiance(ray.dir))
+        l.input(self.scene.environment.radiance(ray.dir))
     }
 
     /// Radiance along `ray` from its nearest film, prop or light (the environment if none),
@@ -119,7 +119,7 @@ impl<'a> Tracer<'a> {
         if !staging.lights.is_empty()
             && let Some((i, _, front)) = nearest(&staging.lights, ray, t_min, t_max)
         {
-            return (l.from_rgb(staging.lights[i].emitted(front)), None);
+            return (l.input(staging.lights[i].emitted(front)), None);
         }
         if let Some(p) = prop {
             let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
@@ -130,7 +130,7 @@ impl<'a> Tracer<'a> {
                 let c = self.shade_film(l, ray, &hit, depth, weight, st);
                 (c, Some(hit))
             }
-            None => (l.from_rgb(self.scene.environment.radiance(ray.dir)), None),
+            None => (l.input(self.scene.environment.radiance(ray.dir)), None),
         }
     }
 
@@ -235,7 +235,7 @@ impl<'a> Tracer<'a> {
                     let t_max = s.dist * (1.0 - 1e-4);
                     if let Some(tr) = self.transmittance(l, p, s.dir, t_max, st) {
                         let w = power(pdf, m.pdf(n, wo, s.dir));
-                        let le = l.from_rgb(lights[i].radiance);
+                        let le = l.input(lights[i].radiance);
                         sum = sum + m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf);
                     }
                 }
@@ -249,7 +249,7 @@ impl<'a> Tracer<'a> {
                 && let Some(tr) = self.transmittance(l, p, d, f32::INFINITY, st)
             {
                 let w = power(pdf, m.pdf(n, wo, d));
-                let le = l.from_rgb(env.radiance(d));
+                let le = l.input(env.radiance(d));
                 sum = sum + m.eval(l, n, wo, d) * tr * le * (cos * w / pdf);
             }
         }
@@ -287,13 +287,15 @@ impl<'a> Tracer<'a> {
                 } else {
                     1.0
                 };
-                l.from_rgb(lights[i].emitted(front)) * w
+                l.input(lights[i].emitted(front)) * w
             }
-            (None, Some(h)) if bounces > 0 => self.shade_prop(l, &ray, &h, depth + 1, bounces - 1, st),
+            (None, Some(h)) if bounces > 0 => {
+                self.shade_prop(l, &ray, &h, depth + 1, bounces - 1, st)
+            }
             (None, Some(_)) => L::C::splat(0.0),
             (None, None) => {
                 let w = self.env.as_ref().map_or(1.0, |es| power(pdf, es.pdf(wi)));
-                l.from_rgb(env.radiance(wi)) * w
+                l.input(env.radiance(wi)) * w
             }
         };
         sum + m.eval(l, n, wo, wi) * tr * incoming * (n.dot(wi) / pdf)

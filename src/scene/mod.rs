@@ -296,9 +296,12 @@ mod tests {
         )
         .unwrap();
         assert_eq!((s.light[0].line, s.prop[0].line), (5, 9));
-        let e = SceneDesc::from_toml("[[prop]]\nshape = \"box\"\nposition = [0, 0, 0]\nsizes = [1, 1, 1]\n", "e.toml")
-            .unwrap_err()
-            .to_string();
+        let e = SceneDesc::from_toml(
+            "[[prop]]\nshape = \"box\"\nposition = [0, 0, 0]\nsizes = [1, 1, 1]\n",
+            "e.toml",
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("line 4") && e.contains("sizes"), "{e}");
     }
 }

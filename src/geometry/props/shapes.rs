@@ -63,11 +63,7 @@ fn quadratic(a: f32, b: f32, c: f32) -> Option<(f32, f32)> {
     let s = disc.sqrt();
     // Stable form: avoid cancellation in −b ± s.
     let q = -(b + s.copysign(b));
-    let (t0, t1) = if q != 0.0 {
-        (q / a, c / q)
-    } else {
-        (0.0, 0.0)
-    };
+    let (t0, t1) = if q != 0.0 { (q / a, c / q) } else { (0.0, 0.0) };
     Some((t0.min(t1), t0.max(t1)))
 }
 
@@ -153,8 +149,11 @@ fn cylinder(
     let mut best: Option<(f32, Vec3)> = None;
     let mut t_max = t_max;
     // Side.
-    if let Some((t0, t1)) = quadratic(dp.length_squared(), op.dot(dp), op.length_squared() - radius * radius)
-    {
+    if let Some((t0, t1)) = quadratic(
+        dp.length_squared(),
+        op.dot(dp),
+        op.length_squared() - radius * radius,
+    ) {
         for t in [t0, t1] {
             let h = oa + t * da;
             if t > t_min && t < t_max && (0.0..=height).contains(&h) {
@@ -236,35 +235,53 @@ mod tests {
             point: Vec3::new(0.0, -1.0, 0.0),
             normal: Vec3::Y,
         };
-        let (t, n) = plane.intersect(&ray([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps).unwrap();
+        let (t, n) = plane
+            .intersect(&ray([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 2.0).abs() < 1e-5 && n == Vec3::Y);
         let sphere = Shape::Sphere {
             centre: Vec3::ZERO,
             radius: 1.0,
         };
-        let (t, n) = sphere.intersect(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), 0.0, 10.0, eps).unwrap();
+        let (t, n) = sphere
+            .intersect(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 4.0).abs() < 1e-5 && (n - Vec3::Z).length() < 1e-5);
         // From inside: the far side.
-        let (t, _) = sphere.intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, eps).unwrap();
+        let (t, _) = sphere
+            .intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 1.0).abs() < 1e-5);
         let bx = Shape::Box {
             centre: Vec3::ZERO,
             half: Vec3::new(1.0, 2.0, 3.0),
         };
-        let (t, n) = bx.intersect(&ray([0.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps).unwrap();
+        let (t, n) = bx
+            .intersect(&ray([0.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 3.0).abs() < 1e-5 && n == Vec3::Y);
-        assert!(bx.intersect(&ray([5.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps).is_none());
+        assert!(
+            bx.intersect(&ray([5.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+                .is_none()
+        );
         let cyl = Shape::Cylinder {
             base: Vec3::ZERO,
             axis: Vec3::Y,
             height: 2.0,
             radius: 0.5,
         };
-        let (t, n) = cyl.intersect(&ray([3.0, 1.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps).unwrap();
+        let (t, n) = cyl
+            .intersect(&ray([3.0, 1.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 2.5).abs() < 1e-5 && (n - Vec3::X).length() < 1e-5);
-        let (t, n) = cyl.intersect(&ray([0.1, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps).unwrap();
+        let (t, n) = cyl
+            .intersect(&ray([0.1, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 3.0).abs() < 1e-5 && n == Vec3::Y, "top cap");
-        assert!(cyl.intersect(&ray([3.0, 2.5, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps).is_none());
+        assert!(
+            cyl.intersect(&ray([3.0, 2.5, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+                .is_none()
+        );
         let torus = Shape::Torus {
             centre: Vec3::ZERO,
             axis: Vec3::Y,
@@ -272,12 +289,23 @@ mod tests {
             minor: 0.1,
         };
         // Down through the tube at x = 1: hits the top of the tube at y = 0.1.
-        let (t, n) = torus.intersect(&ray([1.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps).unwrap();
-        assert!((t - 1.9).abs() < 1e-4 && (n - Vec3::Y).length() < 1e-3, "{t} {n}");
+        let (t, n) = torus
+            .intersect(&ray([1.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
+        assert!(
+            (t - 1.9).abs() < 1e-4 && (n - Vec3::Y).length() < 1e-3,
+            "{t} {n}"
+        );
         // Through the hole: a miss.
-        assert!(torus.intersect(&ray([0.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps).is_none());
+        assert!(
+            torus
+                .intersect(&ray([0.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+                .is_none()
+        );
         // Along the axis plane from outside: the outer rim at x = 1.1.
-        let (t, _) = torus.intersect(&ray([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps).unwrap();
+        let (t, _) = torus
+            .intersect(&ray([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
         assert!((t - 1.9).abs() < 1e-4, "{t}");
     }
 }
