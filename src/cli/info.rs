@@ -1,7 +1,8 @@
 //! `filmsplat info`: what a particle file holds and what the renderer would make of it.
 
 use crate::Result;
-use crate::io::read_cloud;
+use crate::io::{AttributeRole, StoredAttribute, read_cloud_described};
+use crate::pointcloud::PointCloud;
 use crate::pointcloud::estimate::estimate_radii;
 use crate::pointcloud::{EstimateOptions, compute_stats};
 use clap::Args;
@@ -20,11 +21,12 @@ pub struct InfoArgs {
 /// Runs `filmsplat info`.
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     let opts = a.attributes.read_options()?;
-    let cloud = read_cloud(&a.input, &opts)?;
+    let (cloud, stored) = read_cloud_described(&a.input, &opts)?;
     let stats = compute_stats(&cloud);
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));
     writeln!(out, "{}", a.input.display()).map_err(io)?;
     writeln!(out, "{stats}").map_err(io)?;
+    write_stored(out, &cloud, &stored).map_err(io)?;
     // What the renderer would estimate.
     let defaults = EstimateOptions::default();
     writeln!(out, "renderer would:").map_err(io)?;
@@ -62,4 +64,99 @@ pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
         .map_err(io)?;
     }
     Ok(())
+}
+
+/// The file's attributes as stored: name, type, components, what filmsplat reads each as, and
+/// the range of the values read (thickness after conversion to nm).
+fn write_stored(
+    out: &mut dyn Write,
+    cloud: &PointCloud,
+    stored: &[StoredAttribute],
+) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "stored attributes (pick with --thickness-attr/--normal-attr/--radius-attr):"
+    )?;
+    writeln!(
+        out,
+        "  {:<14} {:<18} {:<10} range",
+        "name", "type", "read as"
+    )?;
+    // Single-component position/normal attributes (PLY's x, nx, ...) come in x, y, z order.
+    let (mut pos_c, mut nrm_c) = (0usize, 0usize);
+    for s in stored {
+        let ty = if s.components == 1 {
+            s.stored.clone()
+        } else {
+            format!("{} x{}", s.stored, s.components)
+        };
+        let vec_range = |v: &[glam::Vec3], c: &mut usize, k: usize| {
+            if k == 3 {
+                range_text((0..3).flat_map(|j| v.iter().map(move |p| p[j])))
+            } else {
+                let j = (*c).min(2);
+                *c += 1;
+                range_text(v.iter().map(|p| p[j]))
+            }
+        };
+        let range = match s.role {
+            AttributeRole::Position => vec_range(&cloud.positions, &mut pos_c, s.components),
+            AttributeRole::Normal => match &cloud.normals {
+                Some(n) => vec_range(n, &mut nrm_c, s.components),
+                None => String::new(),
+            },
+            AttributeRole::Thickness => cloud
+                .thickness_nm
+                .as_deref()
+                .map(|t| format!("{} nm", range_text(t.iter().copied())))
+                .unwrap_or_default(),
+            AttributeRole::Radius => cloud
+                .radius
+                .as_deref()
+                .map(|r| range_text(r.iter().copied()))
+                .unwrap_or_default(),
+            AttributeRole::Extra => {
+                let cols = crate::io::component_names(&s.name, s.components);
+                range_text(
+                    cols.iter()
+                        .filter_map(|c| cloud.extra(c))
+                        .flat_map(|v| v.iter().copied()),
+                )
+            }
+            AttributeRole::Skipped => "(not read)".to_string(),
+        };
+        writeln!(
+            out,
+            "  {:<14} {:<18} {:<10} {range}",
+            crate::io::show_name(&s.name),
+            ty,
+            s.role.to_string()
+        )?;
+    }
+    Ok(())
+}
+
+/// "min .. max" of the finite values, with the count of non-finite ones if any.
+fn range_text(values: impl Iterator<Item = f32>) -> String {
+    let (mut lo, mut hi, mut bad, mut n) = (f32::INFINITY, f32::NEG_INFINITY, 0usize, 0usize);
+    for v in values {
+        n += 1;
+        if v.is_finite() {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        } else {
+            bad += 1;
+        }
+    }
+    let mut t = if n == 0 {
+        "(empty)".to_string()
+    } else if lo > hi {
+        "no finite values".to_string()
+    } else {
+        format!("{lo:.6} .. {hi:.6}")
+    };
+    if bad > 0 {
+        t.push_str(&format!(" ({bad} non-finite)"));
+    }
+    t
 }

@@ -20,6 +20,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::num::Num;
 use super::{ReadOptions, format_error, read_file};
@@ -40,6 +41,14 @@ const FORMAT: &str = "BGEO";
 /// malformed attribute definitions, unsupported attribute types, truncated point data, or an
 /// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_described(path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_described(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let raw = read_file(path)?;
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
@@ -206,8 +215,9 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
     let body = c.take(need as usize, "the points")?;
     let mut cols = Columns {
         positions: Vec::with_capacity(n),
-        scalars: Vec::new(),
+        ..Columns::default()
     };
+    cols.note_positions("P", "float32");
     let mut p = Vec::with_capacity(3 * n);
     for rec in body.chunks_exact(stride) {
         Num::F32.decode(&rec[..12], true, &mut p);
@@ -223,7 +233,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         for rec in body.chunks_exact(stride) {
             a.ty.decode(&rec[o..e], true, &mut v);
         }
-        cols.push(&a.name, a.size, std::mem::take(&mut v));
+        cols.push(&a.name, a.size, a.ty.name(), std::mem::take(&mut v));
     }
     Ok(cols)
 }

@@ -1,5 +1,5 @@
-//! Columnar readers' common end: named per-particle columns in, [`PointCloud`] out, with the
-//! same attribute mapping rules as the PLY reader.
+//! Columnar readers' common end: named per-particle columns in, [`PointCloud`] out, and the
+//! attribute-mapping rules every reader (PLY included) follows: [`resolve_roles`].
 //!
 //! Readers of VTK, VTU, BGEO, CSV and frame folders collect positions plus named scalar
 //! columns (vector attributes already split by [`Columns::push`] into `name_x/_y/_z`), then
@@ -9,6 +9,7 @@
 
 use glam::Vec3;
 
+use crate::io::{AttributeRole, StoredAttribute};
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, ReadOptions, THICKNESS_ALIASES};
 use crate::pointcloud::PointCloud;
 
@@ -30,11 +31,15 @@ pub(crate) const STANDARD: Aliases = Aliases {
     default_scale_to_nm: 1.0,
 };
 
-/// Positions and named scalar columns, all of the same length.
+/// Positions and named scalar columns, all of the same length, plus what the file stored.
 #[derive(Debug, Default)]
 pub(crate) struct Columns {
     pub positions: Vec<Vec3>,
     pub scalars: Vec<(String, Vec<f32>)>,
+    /// The file's attributes as stored (positions first if noted), for `filmsplat info`.
+    pub stored: Vec<StoredAttribute>,
+    /// For each scalar column, the index into `stored` of the attribute it came from.
+    pub owner: Vec<usize>,
 }
 
 /// Names of the scalar columns a `k`-component attribute called `name` becomes:
@@ -62,21 +67,41 @@ pub(crate) fn show(text: &str) -> String {
 impl Columns {
     /// Adds a `k`-component attribute stored tuple by tuple in `data` (`data.len()` = k × n),
     /// split into scalar columns named by [`component_names`] (a scalar is moved, not copied).
-    pub fn push(&mut self, name: &str, k: usize, data: Vec<f32>) {
+    /// `stored` names the file's type (`float32`, `int64`, `text`, ...).
+    pub fn push(&mut self, name: &str, k: usize, stored: &'static str, data: Vec<f32>) {
+        self.stored
+            .push(StoredAttribute::new(name, stored, k, AttributeRole::Extra));
+        let owner = self.stored.len() - 1;
         if k == 1 {
             self.scalars.push((name.to_string(), data));
+            self.owner.push(owner);
             return;
         }
         for (c, col) in component_names(name, k).into_iter().enumerate() {
             let v: Vec<f32> = data.iter().skip(c).step_by(k).copied().collect();
             self.scalars.push((col, v));
+            self.owner.push(owner);
         }
+    }
+
+    /// Records that the positions came from the attribute `name` of type `stored`.
+    pub fn note_positions(&mut self, name: &str, stored: &'static str) {
+        self.stored.push(StoredAttribute::new(
+            name,
+            stored,
+            3,
+            AttributeRole::Position,
+        ));
     }
 
     /// Builds the cloud: maps normals, thickness (scaled to nm) and radius; the rest are extras.
     /// Returns a one-line message if an explicitly named attribute is missing, a normal is
     /// incomplete, one column would be used twice, or a column has the wrong length.
-    pub fn into_cloud(self, opts: &ReadOptions, al: &Aliases) -> Result<PointCloud, String> {
+    pub fn into_cloud(
+        self,
+        opts: &ReadOptions,
+        al: &Aliases,
+    ) -> Result<(PointCloud, Vec<StoredAttribute>), String> {
         let n = self.positions.len();
         let names: Vec<&str> = self.scalars.iter().map(|(s, _)| s.as_str()).collect();
         if let Some((name, v)) = self.scalars.iter().find(|(_, v)| v.len() != n) {
@@ -97,65 +122,14 @@ impl Columns {
                 format!("attributes: {}", l.join(", "))
             }
         };
-        let find = |name: &str| names.iter().position(|&s| s == name);
-        let triple = |p: &str| find_triple(&find, p);
-        let normal = match &opts.normal_attr {
-            Some(p) => match triple(p) {
-                (Some(t), _) => Some(t),
-                (None, _) => {
-                    return Err(format!(
-                        "normal attribute '{0}' not found: need {0}_x {0}_y {0}_z or {0}x {0}y \
-                         {0}z ({1})",
-                        show(p),
-                        list()
-                    ));
-                }
-            },
-            None => {
-                let mut hit = None;
-                for p in al.normal {
-                    match triple(p) {
-                        (Some(t), _) => {
-                            hit = Some(t);
-                            break;
-                        }
-                        (None, true) => {
-                            return Err(format!(
-                                "incomplete normal: some but not all of {p}_x {p}_y {p}_z / \
-                                 {p}x {p}y {p}z ({})",
-                                list()
-                            ));
-                        }
-                        (None, false) => {}
-                    }
-                }
-                hit
+        let roles = resolve_roles(&names, &[], opts, al, &list)?;
+        let used = roles.used(names.len());
+        let (normal, thickness, radius) = (roles.normal, roles.thickness, roles.radius);
+        let mut stored = self.stored;
+        for (i, role) in used.iter().enumerate() {
+            if let (Some(role), Some(&o)) = (role, self.owner.get(i)) {
+                stored[o].role = *role;
             }
-        };
-        let scalar = |explicit: &Option<String>, aliases: &[&str], what: &str| match explicit {
-            Some(name) => find(name)
-                .map(Some)
-                .ok_or_else(|| format!("{what} attribute '{}' not found ({})", show(name), list())),
-            None => Ok(aliases.iter().find_map(|a| find(a))),
-        };
-        let thickness = scalar(&opts.thickness_attr, al.thickness, "thickness")?;
-        let radius = scalar(&opts.radius_attr, al.radius, "radius")?;
-
-        let mut used: Vec<Option<&str>> = vec![None; names.len()];
-        let claims = normal
-            .iter()
-            .flatten()
-            .map(|&i| (i, "normal"))
-            .chain(thickness.map(|i| (i, "thickness")))
-            .chain(radius.map(|i| (i, "radius")));
-        for (i, what) in claims {
-            if let Some(old) = used[i] {
-                return Err(format!(
-                    "attribute '{}' is used twice ({old} and {what})",
-                    show(names[i])
-                ));
-            }
-            used[i] = Some(what);
         }
 
         let mut slots: Vec<Option<Vec<f32>>> = self.scalars.iter().map(|_| None).collect();
@@ -182,14 +156,126 @@ impl Columns {
             t
         });
         let radius = radius.map(take);
-        Ok(PointCloud {
+        let cloud = PointCloud {
             positions: self.positions,
             normals,
             thickness_nm,
             radius,
             extra,
-        })
+        };
+        Ok((cloud, stored))
     }
+}
+
+/// Which named attributes play the roles of normal, thickness and radius.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Roles {
+    /// The three normal components.
+    pub normal: Option<[usize; 3]>,
+    /// The thickness attribute.
+    pub thickness: Option<usize>,
+    /// The radius attribute.
+    pub radius: Option<usize>,
+}
+
+impl Roles {
+    /// The role of each of `n` attributes (`None` = an extra).
+    pub fn used(&self, n: usize) -> Vec<Option<AttributeRole>> {
+        let mut used = vec![None; n];
+        for i in self.normal.iter().flatten() {
+            used[*i] = Some(AttributeRole::Normal);
+        }
+        if let Some(i) = self.thickness {
+            used[i] = Some(AttributeRole::Thickness);
+        }
+        if let Some(i) = self.radius {
+            used[i] = Some(AttributeRole::Radius);
+        }
+        used
+    }
+}
+
+/// The attribute-mapping rules of every reader. `names` are the scalar attributes in file
+/// order; `taken` lists attributes already claimed (e.g. PLY's `x y z` positions) and what for.
+/// Normals, thickness and radius are the names in `opts` if given (absent = error), else the
+/// first present alias of `al`; a normal prefix `p` means `px py pz` or `p_x p_y p_z`.
+/// `list()` describes the available attributes for messages ("vertex has: x, y, z").
+/// Errors: an explicit name not found, an incomplete aliased normal, an attribute used twice.
+pub(crate) fn resolve_roles(
+    names: &[&str],
+    taken: &[(usize, &'static str)],
+    opts: &ReadOptions,
+    al: &Aliases,
+    list: &dyn Fn() -> String,
+) -> Result<Roles, String> {
+    let find = |name: &str| names.iter().position(|&s| s == name);
+    let triple = |p: &str| find_triple(&find, p);
+    let normal = match &opts.normal_attr {
+        Some(p) => match triple(p) {
+            (Some(t), _) => Some(t),
+            (None, _) => {
+                return Err(format!(
+                    "normal attribute '{0}' not found: need {0}x {0}y {0}z or {0}_x {0}_y {0}_z \
+                     ({1})",
+                    show(p),
+                    list()
+                ));
+            }
+        },
+        None => {
+            let mut hit = None;
+            for p in al.normal {
+                match triple(p) {
+                    (Some(t), _) => {
+                        hit = Some(t);
+                        break;
+                    }
+                    (None, true) => {
+                        return Err(format!(
+                            "incomplete normal: some but not all of {p}x {p}y {p}z / \
+                             {p}_x {p}_y {p}_z ({})",
+                            list()
+                        ));
+                    }
+                    (None, false) => {}
+                }
+            }
+            hit
+        }
+    };
+    let scalar = |explicit: &Option<String>, aliases: &[&str], what: &str| match explicit {
+        Some(name) => find(name)
+            .map(Some)
+            .ok_or_else(|| format!("{what} attribute '{}' not found ({})", show(name), list())),
+        None => Ok(aliases.iter().find_map(|a| find(a))),
+    };
+    let thickness = scalar(&opts.thickness_attr, al.thickness, "thickness")?;
+    let radius = scalar(&opts.radius_attr, al.radius, "radius")?;
+
+    let mut used: Vec<Option<&str>> = vec![None; names.len()];
+    for &(i, what) in taken {
+        used[i] = Some(what);
+    }
+    let claims = normal
+        .iter()
+        .flatten()
+        .map(|&i| (i, "normal"))
+        .chain(thickness.map(|i| (i, "thickness")))
+        .chain(radius.map(|i| (i, "radius")));
+    for (i, what) in claims {
+        if let Some(old) = used[i] {
+            return Err(format!(
+                "attribute '{}' is used twice ({old} and {what})",
+                show(names[i])
+            ));
+        }
+        used[i] = Some(what);
+    }
+    Ok(Roles {
+        normal,
+        thickness,
+        radius,
+    })
 }
 
 /// Finds the three columns of a vector attribute with prefix `p`: `px py pz` or `p_x p_y p_z`,
@@ -217,13 +303,13 @@ mod tests {
     fn cols() -> Columns {
         let mut c = Columns {
             positions: vec![Vec3::ZERO, Vec3::ONE],
-            scalars: Vec::new(),
+            ..Columns::default()
         };
-        c.push("v", 3, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
-        c.push("N", 3, vec![0.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
-        c.push("rh", 1, vec![1.0, 2.0]);
-        c.push("pscale", 1, vec![0.5, 0.25]);
-        c.push("q", 2, vec![1.0, 2.0, 3.0, 4.0]);
+        c.push("v", 3, "float32", vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        c.push("N", 3, "float32", vec![0.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
+        c.push("rh", 1, "float32", vec![1.0, 2.0]);
+        c.push("pscale", 1, "float32", vec![0.5, 0.25]);
+        c.push("q", 2, "float32", vec![1.0, 2.0, 3.0, 4.0]);
         c
     }
 
@@ -231,7 +317,8 @@ mod tests {
     fn maps_aliases_and_splits_vectors() {
         let c = cols()
             .into_cloud(&ReadOptions::default(), &STANDARD)
-            .unwrap();
+            .unwrap()
+            .0;
         assert_eq!(c.normals.unwrap(), vec![Vec3::Z, Vec3::Y]);
         assert_eq!(c.thickness_nm.unwrap(), vec![1.0, 2.0]);
         assert_eq!(c.radius.unwrap(), vec![0.5, 0.25]);
@@ -239,6 +326,28 @@ mod tests {
         assert_eq!(names, ["v_x", "v_y", "v_z", "q_0", "q_1"]);
         assert_eq!(c.extra[1].1, vec![2.0, 5.0]);
         assert_eq!(c.extra[4].1, vec![2.0, 4.0]);
+    }
+
+    #[test]
+    fn records_stored_types_and_roles() {
+        let (_, stored) = cols()
+            .into_cloud(&ReadOptions::default(), &STANDARD)
+            .unwrap();
+        let got: Vec<(&str, usize, AttributeRole)> = stored
+            .iter()
+            .map(|a| (a.name.as_str(), a.components, a.role))
+            .collect();
+        use AttributeRole::*;
+        assert_eq!(
+            got,
+            [
+                ("v", 3, Extra),
+                ("N", 3, Normal),
+                ("rh", 1, Thickness),
+                ("pscale", 1, Radius),
+                ("q", 2, Extra)
+            ]
+        );
     }
 
     #[test]
@@ -250,7 +359,7 @@ mod tests {
             thickness_scale_to_nm: 1e3,
             thickness_unit_explicit: true,
         };
-        let c = cols().into_cloud(&o, &STANDARD).unwrap();
+        let c = cols().into_cloud(&o, &STANDARD).unwrap().0;
         assert_eq!(c.normals.unwrap()[1], Vec3::new(4.0, 5.0, 6.0));
         assert_eq!(c.thickness_nm.unwrap(), vec![500.0, 250.0]);
         assert_eq!(c.radius.unwrap(), vec![1.0, 2.0]);
@@ -280,12 +389,14 @@ mod tests {
         let mut c = Columns {
             positions: vec![Vec3::ZERO],
             scalars: vec![("nx".into(), vec![1.0]), ("ny".into(), vec![0.0])],
+            ..Columns::default()
         };
         let e = c.into_cloud(&ReadOptions::default(), &STANDARD);
         assert!(e.unwrap_err().contains("incomplete normal"));
         c = Columns {
             positions: vec![Vec3::ZERO],
             scalars: vec![("a".into(), vec![1.0, 2.0])],
+            ..Columns::default()
         };
         let e = c.into_cloud(&ReadOptions::default(), &STANDARD);
         assert!(e.unwrap_err().contains("'a' has 2 values for 1 points"));

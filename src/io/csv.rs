@@ -12,6 +12,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::{ReadOptions, format_error, read_file};
 use crate::error::Result;
@@ -30,6 +31,14 @@ const FORMAT: &str = "CSV";
 /// with the wrong number of fields, a field that is not a number, or an attribute named in
 /// `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_described(path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_described(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = read_file(path)?;
     parse(&bytes)
@@ -150,9 +159,11 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
     let mut cols = Columns::default();
     let (x, y, z) = (&data[pos[0]], &data[pos[1]], &data[pos[2]]);
     cols.positions = (0..x.len()).map(|i| Vec3::new(x[i], y[i], z[i])).collect();
+    let xyz: Vec<&str> = pos.iter().map(|&i| names[i].as_str()).collect();
+    cols.note_positions(&xyz.join(" "), "text");
     for (i, (name, v)) in names.into_iter().zip(data).enumerate() {
         if !pos.contains(&i) {
-            cols.scalars.push((name, v));
+            cols.push(&name, 1, "text", v);
         }
     }
     Ok(cols)

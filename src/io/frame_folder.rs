@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
+use super::StoredAttribute;
 use super::columns::{Aliases, Columns};
 use super::{FRAME_NORMAL_ALIASES, FRAME_THICKNESS_ALIASES, RADIUS_ALIASES, ReadOptions};
 use super::{format_error, read_file};
@@ -41,6 +42,14 @@ const ALIASES: Aliases = Aliases {
 /// (truncated files report where the data runs out), counts disagree, or an attribute named
 /// in `opts` is missing; [`Error::Invalid`] for a bad option.
 pub fn read(dir: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_described(dir, opts).map(|(c, _)| c)
+}
+
+/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_described(
+    dir: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let meta = std::fs::metadata(dir).map_err(|e| Error::io(dir, e))?;
     if !meta.is_dir() {
@@ -85,8 +94,9 @@ pub fn read(dir: &Path, opts: &ReadOptions) -> Result<PointCloud> {
             .chunks_exact(3)
             .map(|p| Vec3::new(p[0], p[1], p[2]))
             .collect(),
-        scalars: Vec::new(),
+        ..Columns::default()
     };
+    cols.note_positions("x", "float64");
     for (attr, p) in files {
         let (k, v) = parse(&read_file(&p)?).map_err(|m| format_error(&p, FORMAT, m))?;
         if v.len() / k != n {
@@ -110,7 +120,7 @@ pub fn read(dir: &Path, opts: &ReadOptions) -> Result<PointCloud> {
                 ),
             ));
         }
-        cols.push(&attr, k, v);
+        cols.push(&attr, k, "float64", v);
     }
     cols.into_cloud(opts, &ALIASES)
         .map_err(|m| format_error(dir, FORMAT, m))

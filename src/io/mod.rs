@@ -271,6 +271,93 @@ pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
     }
 }
 
+/// Reads a particle file like [`read_cloud`] and also says what the file stores: every
+/// attribute with its stored type and what filmsplat read it as (for `filmsplat info`).
+pub fn read_cloud_described(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
+    match detect_format(path)? {
+        CloudFormat::Ply => ply::read_described(path, opts),
+        CloudFormat::VtkLegacy => vtk::read_described(path, opts),
+        CloudFormat::VtkXml => vtu::read_described(path, opts),
+        CloudFormat::Bgeo => bgeo::read_described(path, opts),
+        CloudFormat::Csv => csv::read_described(path, opts),
+        CloudFormat::FrameFolder => frame_folder::read_described(path, opts),
+    }
+}
+
+/// What filmsplat reads a stored attribute as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AttributeRole {
+    /// Particle positions (or one of their components).
+    Position,
+    /// Surface normals (or one component).
+    Normal,
+    /// Film thickness.
+    Thickness,
+    /// Splat radius.
+    Radius,
+    /// Kept as an extra attribute ([`PointCloud::extra`]).
+    Extra,
+    /// Not read (e.g. a PLY list property).
+    Skipped,
+}
+
+impl std::fmt::Display for AttributeRole {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            AttributeRole::Position => "position",
+            AttributeRole::Normal => "normal",
+            AttributeRole::Thickness => "thickness",
+            AttributeRole::Radius => "radius",
+            AttributeRole::Extra => "extra",
+            AttributeRole::Skipped => "skipped",
+        })
+    }
+}
+
+/// One attribute as the file stores it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StoredAttribute {
+    /// The name in the file (`x`, `nx`, `POINTS`, `P`, `rh_bin` as `rh`, ...).
+    pub name: String,
+    /// The stored number type: `int8` .. `uint64`, `float32`, `float64`, `text` (CSV), or a
+    /// PLY list such as `list uint8 int32`.
+    pub stored: String,
+    /// Values per particle (1 scalar, 3 vector).
+    pub components: usize,
+    /// What filmsplat reads it as.
+    pub role: AttributeRole,
+}
+
+impl StoredAttribute {
+    pub(crate) fn new(
+        name: &str,
+        stored: impl Into<String>,
+        components: usize,
+        role: AttributeRole,
+    ) -> Self {
+        StoredAttribute {
+            name: name.to_string(),
+            stored: stored.into(),
+            components,
+            role,
+        }
+    }
+}
+
+/// The scalar columns a `k`-component attribute `name` is split into (`name`, or
+/// `name_x name_y name_z`, or `name_0 ..`): the names of its [`PointCloud::extra`] entries.
+pub fn component_names(name: &str, k: usize) -> Vec<String> {
+    columns::component_names(name, k)
+}
+
+/// An attribute name from a file made safe to print on one line (escaped, at most 40 chars).
+pub fn show_name(name: &str) -> String {
+    columns::show(name)
+}
+
 /// Reads a whole regular file, refusing directories.
 fn read_file(path: &Path) -> Result<Vec<u8>> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;

@@ -26,6 +26,22 @@ impl Num {
         }
     }
 
+    /// The type's name as `filmsplat info` prints it (`int8`, ..., `float64`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Num::I8 => "int8",
+            Num::U8 => "uint8",
+            Num::I16 => "int16",
+            Num::U16 => "uint16",
+            Num::I32 => "int32",
+            Num::U32 => "uint32",
+            Num::I64 => "int64",
+            Num::U64 => "uint64",
+            Num::F32 => "float32",
+            Num::F64 => "float64",
+        }
+    }
+
     /// Appends the values in `bytes` (whole values only; a partial tail is ignored) to `out`
     /// as f32 (integers above 2^24 and f64 lose precision). Cost: one pass, ~1 ns per value.
     pub fn decode(self, bytes: &[u8], big_endian: bool, out: &mut Vec<f32>) {

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::num::Num;
 use super::{ReadOptions, format_error, read_file};
@@ -32,6 +33,14 @@ const FORMAT: &str = "VTK legacy";
 /// unsupported dataset or type, or an attribute named in `opts` that is missing;
 /// [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_described(path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_described(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = read_file(path)?;
     parse(&bytes)
@@ -277,6 +286,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
                     return Err(bad("POINTS must be float or double"));
                 }
                 let v = c.values(t, n.saturating_mul(3), true, "POINTS")?;
+                cols.note_positions("POINTS", t.name());
                 cols.positions = v
                     .chunks_exact(3)
                     .map(|p| Vec3::new(p[0], p[1], p[2]))
@@ -391,7 +401,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
                     }
                     let v = c.values(t, tuples.saturating_mul(k), keep, &aname)?;
                     if keep {
-                        cols.push(&aname, k as usize, v);
+                        cols.push(&aname, k as usize, t.name(), v);
                     }
                     let _ = c.line_if("METADATA").map(|_| {
                         while let Some((_, l)) = c.raw_line() {
@@ -415,7 +425,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
             let keep = section == Section::Point;
             let v = c.values(t, tuples.saturating_mul(k), keep, &aname)?;
             if keep {
-                cols.push(&aname, k as usize, v);
+                cols.push(&aname, k as usize, t.name(), v);
             }
         }
     }

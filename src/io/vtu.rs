@@ -14,6 +14,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::num::Num;
 use super::sources::{Base64, Raw, Source};
@@ -39,6 +40,14 @@ const MAX_ZLIB_RATIO: u64 = 1100;
 /// compressors, sizes that disagree with `NumberOfPoints`, truncated or corrupt data, or an
 /// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_described(path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_described(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = read_file(path)?;
     parse(&bytes)
@@ -206,7 +215,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         return Err("no Piece element".into());
     }
     let mut cols = Columns::default();
-    let mut data: Vec<(String, u64, Vec<f32>)> = Vec::new();
+    let mut data: Vec<(String, u64, Num, Vec<f32>)> = Vec::new();
     for (pi, p) in pieces.iter().enumerate() {
         let pts = p
             .points
@@ -216,6 +225,9 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
             return Err(format!("Points array has {} components, expected 3", pts.k));
         }
         let v = decode(b, pts, p.n, &set)?;
+        if pi == 0 {
+            cols.note_positions("Points", pts.ty.name());
+        }
         cols.positions
             .extend(v.chunks_exact(3).map(|q| Vec3::new(q[0], q[1], q[2])));
         if pi > 0 && p.data.len() != data.len() {
@@ -228,7 +240,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         for (ai, a) in p.data.iter().enumerate() {
             let v = decode(b, a, p.n, &set)?;
             if pi == 0 {
-                data.push((a.name.clone(), a.k, v));
+                data.push((a.name.clone(), a.k, a.ty, v));
             } else if data[ai].0 != a.name || data[ai].1 != a.k {
                 return Err(format!(
                     "Piece {pi}'s point array {ai} is '{}', Piece 0's is '{}'",
@@ -236,12 +248,12 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
                     show(&data[ai].0)
                 ));
             } else {
-                data[ai].2.extend(v);
+                data[ai].3.extend(v);
             }
         }
     }
-    for (name, k, v) in data {
-        cols.push(&name, k as usize, v);
+    for (name, k, ty, v) in data {
+        cols.push(&name, k as usize, ty.name(), v);
     }
     Ok(cols)
 }

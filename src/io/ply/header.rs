@@ -77,6 +77,32 @@ pub(super) enum PropKind {
     },
 }
 
+impl Scalar {
+    /// The sized type name (`int8` .. `float64`).
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Scalar::I8 => "int8",
+            Scalar::U8 => "uint8",
+            Scalar::I16 => "int16",
+            Scalar::U16 => "uint16",
+            Scalar::I32 => "int32",
+            Scalar::U32 => "uint32",
+            Scalar::F32 => "float32",
+            Scalar::F64 => "float64",
+        }
+    }
+}
+
+impl PropKind {
+    /// The stored type as `filmsplat info` prints it: `float32`, `list uint8 int32`, ...
+    pub(super) fn name(self) -> String {
+        match self {
+            PropKind::Scalar(s) => s.name().to_string(),
+            PropKind::List { count, item } => format!("list {} {}", count.name(), item.name()),
+        }
+    }
+}
+
 /// One `property` line.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct Property {

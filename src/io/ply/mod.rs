@@ -25,7 +25,8 @@ use glam::Vec3;
 
 use self::header::{Element, Encoding, Header, PropKind};
 use crate::error::{Error, Result};
-use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, ReadOptions, THICKNESS_ALIASES};
+use crate::io::columns::{STANDARD, resolve_roles};
+use crate::io::{AttributeRole, ReadOptions, StoredAttribute};
 use crate::pointcloud::PointCloud;
 
 /// Name used in error messages.
@@ -40,6 +41,15 @@ const FORMAT: &str = "PLY";
 /// [`Error::Format`] naming the file and the problem for a malformed file or a missing or
 /// ill-typed attribute; [`Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_described(path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read`], and also returns what the file stores: every vertex property with its type
+/// and role ([`StoredAttribute`]s).
+pub fn read_described(
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
@@ -81,7 +91,11 @@ impl From<io::Error> for Fail {
 }
 
 /// Reads a whole PLY stream; `len` is its total length if known (enables the size check).
-fn read_from<R: Read>(reader: R, len: Option<u64>, opts: &ReadOptions) -> Result<PointCloud, Fail> {
+fn read_from<R: Read>(
+    reader: R,
+    len: Option<u64>,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>), Fail> {
     let mut src = source::Source::new(reader, len);
     let header = header::parse(&mut src)?;
     let vi = header
@@ -133,6 +147,20 @@ fn check_sizes(header: &Header, vi: usize, body_len: u64) -> Result<(), Fail> {
     Ok(())
 }
 
+impl Target {
+    /// What the property is read as.
+    fn role(self) -> AttributeRole {
+        match self {
+            Target::Pos(_) => AttributeRole::Position,
+            Target::Normal(_) => AttributeRole::Normal,
+            Target::Thickness => AttributeRole::Thickness,
+            Target::Radius => AttributeRole::Radius,
+            Target::Extra(_) => AttributeRole::Extra,
+            Target::Ignore => AttributeRole::Skipped,
+        }
+    }
+}
+
 /// Where one vertex property goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Target {
@@ -156,127 +184,75 @@ struct Plan {
     has_normals: bool,
     has_thickness: bool,
     has_radius: bool,
+    /// The vertex properties as stored, for `filmsplat info`.
+    stored: Vec<StoredAttribute>,
 }
 
-/// Maps the vertex properties to targets: explicit names first (absent = error), then aliases.
+/// Maps the vertex properties to targets by the shared rules
+/// ([`crate::io::columns::resolve_roles`]): `x y z` are the positions, then explicit names
+/// (absent = error), then aliases. A list property cannot play a role.
 fn resolve(v: &Element, opts: &ReadOptions) -> Result<Plan, String> {
     let names: Vec<&str> = v.props.iter().map(|p| p.name.as_str()).collect();
     let list = || {
-        names
-            .iter()
-            .map(|n| header::show(n))
-            .collect::<Vec<_>>()
-            .join(", ")
+        let l: Vec<String> = names.iter().map(|n| header::show(n)).collect();
+        format!("vertex has: {}", l.join(", "))
     };
     let find = |name: &str| names.iter().position(|&n| n == name);
-    let mut targets: Vec<Option<Target>> = vec![None; names.len()];
-    let mut claim = |i: usize, t: Target, what: &str| -> Result<(), String> {
-        if let PropKind::List { .. } = v.props[i].kind {
-            return Err(format!(
-                "vertex property '{}' ({what}) is a list; expected a scalar",
-                header::show(names[i])
-            ));
-        }
-        if let Some(old) = targets[i] {
-            return Err(format!(
-                "vertex property '{}' is used twice ({old:?} and {what})",
-                header::show(names[i])
-            ));
-        }
-        targets[i] = Some(t);
-        Ok(())
-    };
-
+    let mut pos = [0usize; 3];
     for (c, axis) in ["x", "y", "z"].into_iter().enumerate() {
-        let i = find(axis)
-            .ok_or_else(|| format!("vertex has no '{axis}' property (it has: {})", list()))?;
-        claim(i, Target::Pos(c), "position")?;
+        pos[c] =
+            find(axis).ok_or_else(|| format!("vertex has no '{axis}' property ({})", list()))?;
     }
-
-    // Normals: a prefix p means p+x/y/z or p+_x/_y/_z.
-    let triple = |p: &str| crate::io::columns::find_triple(&find, p);
-    let normal = match &opts.normal_attr {
-        Some(p) => match triple(p) {
-            (Some(t), _) => Some(t),
-            (None, _) => {
-                return Err(format!(
-                    "normal attribute '{0}' not found: need {0}x {0}y {0}z or {0}_x {0}_y {0}_z \
-                     (vertex has: {1})",
-                    header::show(p),
-                    list()
-                ));
-            }
-        },
-        None => {
-            let mut hit = None;
-            for p in NORMAL_ALIASES {
-                match triple(p) {
-                    (Some(t), _) => {
-                        hit = Some(t);
-                        break;
-                    }
-                    (None, true) => {
-                        return Err(format!(
-                            "incomplete normal: vertex has some but not all of {p}x {p}y {p}z / \
-                             {p}_x {p}_y {p}_z (vertex has: {})",
-                            list()
-                        ));
-                    }
-                    (None, false) => {}
-                }
-            }
-            hit
-        }
-    };
-    if let Some(idx) = normal {
-        for (c, i) in idx.into_iter().enumerate() {
-            claim(i, Target::Normal(c), "normal")?;
-        }
+    let taken = pos.map(|i| (i, "position"));
+    let roles = resolve_roles(&names, &taken, opts, &STANDARD, &list)?;
+    let mut targets: Vec<Option<Target>> = vec![None; names.len()];
+    for (c, i) in pos.into_iter().enumerate() {
+        targets[i] = Some(Target::Pos(c));
     }
-
-    let mut scalar = |explicit: &Option<String>, aliases: &[&str], t: Target, what: &str| {
-        let i = match explicit {
-            Some(name) => Some(find(name).ok_or_else(|| {
-                format!(
-                    "{what} attribute '{}' not found (vertex has: {})",
-                    header::show(name),
-                    list()
-                )
-            })?),
-            None => aliases.iter().find_map(|a| find(a)),
-        };
-        if let Some(i) = i {
-            claim(i, t, what)?;
-        }
-        Ok::<bool, String>(i.is_some())
-    };
-    let has_thickness = scalar(
-        &opts.thickness_attr,
-        THICKNESS_ALIASES,
-        Target::Thickness,
-        "thickness",
-    )?;
-    let has_radius = scalar(&opts.radius_attr, RADIUS_ALIASES, Target::Radius, "radius")?;
+    for (c, i) in roles.normal.into_iter().flatten().enumerate() {
+        targets[i] = Some(Target::Normal(c));
+    }
+    if let Some(i) = roles.thickness {
+        targets[i] = Some(Target::Thickness);
+    }
+    if let Some(i) = roles.radius {
+        targets[i] = Some(Target::Radius);
+    }
 
     let mut extra_names = Vec::new();
-    let targets = targets
-        .into_iter()
-        .zip(&v.props)
-        .map(|(t, p)| match (t, p.kind) {
+    let mut stored = Vec::with_capacity(names.len());
+    let mut plan_targets = Vec::with_capacity(names.len());
+    for (t, p) in targets.into_iter().zip(&v.props) {
+        let target = match (t, p.kind) {
+            (Some(t), PropKind::List { .. }) => {
+                return Err(format!(
+                    "vertex property '{}' ({}) is a list; expected a scalar",
+                    header::show(&p.name),
+                    t.role()
+                ));
+            }
             (Some(t), _) => t,
             (None, PropKind::List { .. }) => Target::Ignore,
             (None, PropKind::Scalar(_)) => {
                 extra_names.push(p.name.clone());
                 Target::Extra(extra_names.len() - 1)
             }
-        })
-        .collect();
+        };
+        stored.push(StoredAttribute::new(
+            &p.name,
+            p.kind.name(),
+            1,
+            target.role(),
+        ));
+        plan_targets.push(target);
+    }
     Ok(Plan {
-        targets,
+        targets: plan_targets,
         extra_names,
-        has_normals: normal.is_some(),
-        has_thickness,
-        has_radius,
+        has_normals: roles.normal.is_some(),
+        has_thickness: roles.thickness.is_some(),
+        has_radius: roles.radius.is_some(),
+        stored,
     })
 }
 
@@ -344,20 +320,21 @@ impl Outputs {
         }
     }
 
-    fn into_cloud(self, plan: Plan, scale: f64) -> PointCloud {
+    fn into_cloud(self, plan: Plan, scale: f64) -> (PointCloud, Vec<StoredAttribute>) {
         let mut thickness_nm = self.thickness;
         if scale != 1.0 {
             for t in thickness_nm.iter_mut().flatten() {
                 *t = (f64::from(*t) * scale) as f32;
             }
         }
-        PointCloud {
+        let cloud = PointCloud {
             positions: self.positions,
             normals: self.normals,
             thickness_nm,
             radius: self.radius,
             extra: plan.extra_names.into_iter().zip(self.extra).collect(),
-        }
+        };
+        (cloud, plan.stored)
     }
 }
 
