@@ -193,3 +193,58 @@ fn spectral_transport_of_a_grey_environment_matches_rgb() {
         );
     }
 }
+
+/// Two small sphere lights, one on the plane of focus and one twice as far: through a thin
+/// lens the first keeps the pinhole's footprint while the second spreads over many more pixels
+/// at a lower peak; the light each delivers to the image is unchanged.
+#[test]
+fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
+    let light = |x: f32, z: f32, radius: f32| AreaLight {
+        shape: LightShape::Sphere {
+            centre: Vec3::new(x, 0.0, z),
+            radius,
+        },
+        radiance: Vec3::splat(10.0),
+    };
+    let mut scene = Scene {
+        geometry: no_films().into(),
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 20.0),
+        environment: Environment::Uniform(Vec3::ZERO),
+        layer_skip: 1e-3,
+        epsilon: 1e-5,
+        staging: Staging {
+            lights: vec![light(-0.4, 0.0, 0.03), light(0.8, -5.0, 0.06)],
+            ..Staging::default()
+        },
+    };
+    let s = settings(64, 48, 256);
+    // Footprint (lit pixels), peak and total of the left and right halves.
+    let measure = |out: &RenderOutput| {
+        let mut r = [(0usize, 0.0f32, 0.0f32); 2];
+        for (i, c) in out.rgb.iter().enumerate() {
+            let half = usize::from(i % out.width >= out.width / 2);
+            if c.x > 0.05 {
+                r[half].0 += 1;
+            }
+            r[half].1 = r[half].1.max(c.x);
+            r[half].2 += c.x;
+        }
+        r
+    };
+    let pin = measure(&render(&scene, &lut(), &s).unwrap());
+    scene.camera = scene.camera.with_lens(0.15, 5.0);
+    let lens = measure(&render(&scene, &lut(), &s).unwrap());
+    // In focus: the same footprint and total.
+    assert!(lens[0].0.abs_diff(pin[0].0) <= 2, "{pin:?} {lens:?}");
+    assert!(
+        (lens[0].2 - pin[0].2).abs() < 0.05 * pin[0].2,
+        "{pin:?} {lens:?}"
+    );
+    // Out of focus: blur disc of ~2·0.15·5/10 = 0.15 units ≈ 5 px wide: more pixels, lower peak.
+    assert!(lens[1].0 > 3 * pin[1].0, "{pin:?} {lens:?}");
+    assert!(lens[1].1 < 0.5 * pin[1].1, "{pin:?} {lens:?}");
+    assert!(
+        (lens[1].2 - pin[1].2).abs() < 0.1 * pin[1].2,
+        "{pin:?} {lens:?}"
+    );
+}
