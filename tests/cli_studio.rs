@@ -120,6 +120,10 @@ fn studio_errors_name_the_entry_line_and_key() {
         ),
         (with("aperture = 0.05", "aperture = -1"), vec!["aperture"]),
         (
+            with("luminance = 800", "luminance = 800\ntemperature = 3000"),
+            vec!["light 2 (line 17)", "temperature"],
+        ),
+        (
             with("white_balance = 5000", "white_balance = 100"),
             vec!["white_balance"],
         ),

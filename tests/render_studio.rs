@@ -64,6 +64,7 @@ fn an_area_light_seen_directly_has_its_radiance() {
             v: Vec3::new(0.0, 5.0, 0.0),
         },
         radiance,
+        blackbody: None,
     };
     let mut scene = ground_scene(Environment::Uniform(Vec3::splat(0.1)), 0.5, vec![rect]);
     scene.staging = Staging {
@@ -111,6 +112,7 @@ fn light_sampling_and_material_sampling_agree_in_the_mean() {
             radius: 0.8,
         },
         radiance: Vec3::new(2.0, 1.5, 1.0),
+        blackbody: None,
     };
     let env = Environment::Hemispheres {
         axis: Vec3::new(0.3, 1.0, 0.2).normalize(),
@@ -205,6 +207,7 @@ fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
             radius,
         },
         radiance: Vec3::splat(10.0),
+        blackbody: None,
     };
     let mut scene = Scene {
         geometry: no_films().into(),
@@ -247,4 +250,45 @@ fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
         (lens[1].2 - pin[1].2).abs() < 0.1 * pin[1].2,
         "{pin:?} {lens:?}"
     );
+}
+
+/// A black-body light seen directly: spectral transport carries its Planck spectrum, and the
+/// pixel's colour matches the RGB of that spectrum the RGB modes use.
+#[test]
+fn a_black_body_light_has_the_same_colour_in_spectral_and_rgb() {
+    for kelvin in [2700.0, 9000.0] {
+        let mut b = filmsplat::spectrum::Blackbody::new(kelvin);
+        b.scale *= 2.0;
+        let light = AreaLight {
+            shape: LightShape::Rect {
+                centre: Vec3::ZERO,
+                u: Vec3::new(5.0, 0.0, 0.0),
+                v: Vec3::new(0.0, 5.0, 0.0),
+            },
+            radiance: Vec3::from(b.rgb) * 2.0,
+            blackbody: Some(b),
+        };
+        let mut scene = ground_scene(Environment::Uniform(Vec3::ZERO), 0.5, vec![]);
+        scene.staging = Staging {
+            lights: vec![light],
+            ..Staging::default()
+        };
+        scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 30.0);
+        let rgb = mean(&render(&scene, &lut(), &settings(8, 6, 1)).unwrap());
+        let spectral = FilmShader::new(
+            1.33,
+            ShadingMode::Spectral,
+            16,
+            WavelengthStrategy::Jittered,
+        );
+        let s = mean(&render(&scene, &spectral, &settings(16, 12, 64)).unwrap());
+        assert!(
+            (s - rgb).abs().max_element() < 0.03 * rgb.max_element(),
+            "{kelvin} K: {s} vs {rgb}"
+        );
+        assert!(
+            kelvin > 5000.0 || rgb.x > rgb.z,
+            "warm light is red-heavy: {rgb}"
+        );
+    }
 }

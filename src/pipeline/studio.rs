@@ -4,6 +4,7 @@
 use crate::geometry::{Props, Shape};
 use crate::render::{AreaLight, LightShape, Material, Staging};
 use crate::scene::{LightDesc, PropDesc, SceneDesc};
+use crate::spectrum::Blackbody;
 use crate::{Error, Result};
 use glam::Vec3;
 
@@ -54,9 +55,29 @@ pub fn staging(desc: &SceneDesc, centre: Vec3, eps: f32) -> Result<Staging> {
 fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
     let e = |msg: String| err("light", i, l.line, msg);
     let position = finite(l.position).ok_or_else(|| e("position must be finite".into()))?;
+    let mut blackbody = None;
+    if l.temperature.is_some() && (l.colour.is_some() || l.luminance.is_none()) {
+        return Err(e(
+            "temperature goes with luminance (nits) and replaces colour".into(),
+        ));
+    }
     let radiance = match (l.radiance, l.luminance) {
         (Some(_), Some(_)) => return Err(e("give radiance or luminance, not both".into())),
         (Some(r), None) => finite(r).ok_or_else(|| e("radiance must be finite".into()))?,
+        (None, Some(nits)) if l.temperature.is_some() => {
+            let k = l.temperature.unwrap_or_default();
+            if !(k.is_finite() && (500.0..=50_000.0).contains(&k)) {
+                return Err(e(format!("temperature must be 500..50000 K, got {k}")));
+            }
+            if !(nits.is_finite() && nits >= 0.0) {
+                return Err(e(format!("luminance must be >= 0, got {nits}")));
+            }
+            let mut b = Blackbody::new(k);
+            let y = nits / NITS_PER_UNIT;
+            b.scale *= y;
+            blackbody = Some(b);
+            Vec3::from(b.rgb).max(Vec3::ZERO) * y
+        }
         (None, Some(nits)) => {
             let c = finite(l.colour.unwrap_or([1.0; 3]))
                 .ok_or_else(|| e("colour must be finite".into()))?;
@@ -126,7 +147,11 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
             )));
         }
     };
-    Ok(AreaLight { shape, radiance })
+    Ok(AreaLight {
+        shape,
+        radiance,
+        blackbody,
+    })
 }
 
 fn prop(i: usize, p: &PropDesc) -> Result<(Shape, Material)> {

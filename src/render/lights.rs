@@ -12,6 +12,7 @@
 //! are opaque to rays. A scene without lights holds an empty list: rays pay one length check.
 
 use crate::geometry::Ray;
+use crate::spectrum::Blackbody;
 use glam::Vec3;
 use std::f32::consts::{PI, TAU};
 
@@ -53,6 +54,10 @@ pub struct AreaLight {
     pub shape: LightShape,
     /// Emitted radiance, linear sRGB (see the module docs for units).
     pub radiance: Vec3,
+    /// A black-body emission spectrum (scaled to the light's luminance), used as such by
+    /// spectral transport; `radiance` is then its colour. `None`: the spectrum is made from
+    /// `radiance`.
+    pub blackbody: Option<Blackbody>,
 }
 
 /// A point sampled on a light as seen from a shading point.
@@ -67,6 +72,15 @@ pub struct LightSample {
 }
 
 impl AreaLight {
+    /// A light of `shape` emitting RGB `radiance`.
+    pub fn rgb(shape: LightShape, radiance: Vec3) -> Self {
+        AreaLight {
+            shape,
+            radiance,
+            blackbody: None,
+        }
+    }
+
     /// Distance along `ray` to the light within (t_min, t_max), and whether the ray meets its
     /// emitting side.
     #[inline]
@@ -118,12 +132,6 @@ impl AreaLight {
                     .map(|t| (t, c > 0.0))
             }
         }
-    }
-
-    /// Radiance seen along a ray that meets the light (`front`: its emitting side).
-    #[inline]
-    pub fn emitted(&self, front: bool) -> Vec3 {
-        if front { self.radiance } else { Vec3::ZERO }
     }
 
     /// Area of the light, scene units².
@@ -289,10 +297,7 @@ mod tests {
         let mut rng = Pcg32::new(3, 1);
         for shape in lights {
             // u × v of the rect must face down (toward p) for it to be lit.
-            let light = AreaLight {
-                shape,
-                radiance: Vec3::ONE,
-            };
+            let light = AreaLight::rgb(shape, Vec3::ONE);
             let n = 20_000;
             let mut est = 0.0f64;
             for _ in 0..n {

@@ -11,6 +11,7 @@
 //! (a value of 1 at every wavelength is D65 white), so the pixel's colour is the same
 //! D65-weighted sum the `rgb` mode uses at a film hit, and a grey input stays exactly grey.
 
+use super::lights::AreaLight;
 use super::shading::{FilmShader, SampleShading};
 use crate::optics::FilmFresnel;
 use glam::Vec3;
@@ -93,6 +94,11 @@ pub trait Lanes {
     fn film_reflectance(&self, cos_i: f32, thickness_nm: f32) -> Self::C;
     /// An RGB input (radiance or reflectance) as carried.
     fn input(&self, rgb: Vec3) -> Self::C;
+    /// What `light` emits from its front, as carried.
+    #[inline]
+    fn emission(&self, light: &AreaLight) -> Self::C {
+        self.input(light.radiance)
+    }
     /// Carried radiance to linear sRGB.
     fn to_rgb(&self, c: Self::C) -> Vec3;
 }
@@ -162,6 +168,7 @@ fn smits_basis(k: usize, lambda_nm: f32) -> f32 {
 pub struct SpectralLanes {
     ior: f32,
     n: usize,
+    lambda: [f32; SPECTRAL_LANES],
     inv_lambda: [f32; SPECTRAL_LANES],
     /// Smits basis at each lane: white, cyan, magenta, yellow, red, green, blue.
     basis: [Spectrum; 7],
@@ -176,10 +183,12 @@ impl SpectralLanes {
         let (lambda, weights) = state.spectral();
         let n = lambda.len().min(SPECTRAL_LANES);
         let mut inv_lambda = [0.0; SPECTRAL_LANES];
+        let mut lam = [0.0; SPECTRAL_LANES];
         let mut weight = [[0.0; 3]; SPECTRAL_LANES];
         let mut basis = [Spectrum::splat(0.0); 7];
         for i in 0..n {
             inv_lambda[i] = 1.0 / lambda[i];
+            lam[i] = lambda[i];
             weight[i] = weights[i];
             for (k, b) in basis.iter_mut().enumerate() {
                 b.0[i] = smits_basis(k, lambda[i]);
@@ -188,6 +197,7 @@ impl SpectralLanes {
         SpectralLanes {
             ior,
             n,
+            lambda: lam,
             inv_lambda,
             basis,
             weight,
@@ -235,6 +245,21 @@ impl Lanes for SpectralLanes {
             } else {
                 s + ye * (g - b) + re * (r - g)
             }
+        }
+    }
+
+    /// A black-body light emits its Planck spectrum; others their radiance's Smits spectrum.
+    #[inline]
+    fn emission(&self, light: &AreaLight) -> Spectrum {
+        match &light.blackbody {
+            Some(b) => Spectrum(std::array::from_fn(|i| {
+                if i < self.n {
+                    b.relative_to_d65(self.lambda[i])
+                } else {
+                    0.0
+                }
+            })),
+            None => self.input(light.radiance),
         }
     }
 

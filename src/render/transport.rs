@@ -50,6 +50,16 @@ fn power(a: f32, b: f32) -> f32 {
     }
 }
 
+/// What a ray meeting `light` sees: its emission from the front, black from behind.
+#[inline]
+fn emitted<L: Lanes>(l: &L, light: &super::lights::AreaLight, front: bool) -> L::C {
+    if front {
+        l.emission(light)
+    } else {
+        L::C::splat(0.0)
+    }
+}
+
 impl<'a> Tracer<'a> {
     pub fn new(scene: &'a Scene, settings: &'a RenderSettings) -> Self {
         let env = (settings.next_event && !scene.staging.props.is_empty())
@@ -88,7 +98,7 @@ impl<'a> Tracer<'a> {
         if !lights.is_empty()
             && let Some((i, _, front)) = nearest(lights, ray, t_min, f32::INFINITY)
         {
-            return l.input(lights[i].emitted(front));
+            return emitted(l, &lights[i], front);
         }
         l.input(self.scene.environment.radiance(ray.dir))
     }
@@ -119,7 +129,7 @@ impl<'a> Tracer<'a> {
         if !staging.lights.is_empty()
             && let Some((i, _, front)) = nearest(&staging.lights, ray, t_min, t_max)
         {
-            return (l.input(staging.lights[i].emitted(front)), None);
+            return (emitted(l, &staging.lights[i], front), None);
         }
         if let Some(p) = prop {
             let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
@@ -235,7 +245,7 @@ impl<'a> Tracer<'a> {
                     let t_max = s.dist * (1.0 - 1e-4);
                     if let Some(tr) = self.transmittance(l, p, s.dir, t_max, st) {
                         let w = power(pdf, m.pdf(n, wo, s.dir));
-                        let le = l.input(lights[i].radiance);
+                        let le = l.emission(&lights[i]);
                         sum = sum + m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf);
                     }
                 }
@@ -287,7 +297,7 @@ impl<'a> Tracer<'a> {
                 } else {
                     1.0
                 };
-                l.input(lights[i].emitted(front)) * w
+                emitted(l, &lights[i], front) * w
             }
             (None, Some(h)) if bounces > 0 => {
                 self.shade_prop(l, &ray, &h, depth + 1, bounces - 1, st)

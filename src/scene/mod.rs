@@ -61,6 +61,9 @@ pub struct LightDesc {
     pub luminance: Option<f32>,
     /// Colour of a `luminance` light (scaled to luminance 1; default white).
     pub colour: Option<[f32; 3]>,
+    /// Black-body colour temperature, kelvin, for a `luminance` light instead of `colour`:
+    /// spectral shading then carries the Planck spectrum itself.
+    pub temperature: Option<f32>,
     /// Line of the `shape` key (filled in by the parser).
     #[serde(skip)]
     pub line: usize,
