@@ -164,3 +164,51 @@ fn studio_errors_name_the_entry_line_and_key() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("wavelengths") && err.contains("16"), "{err}");
 }
+
+#[test]
+fn mesh_props_render_and_bad_meshes_name_file_and_line() {
+    let cube = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+                f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    write("cube.obj", cube);
+    write("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    let scene = |file: &str| {
+        format!(
+            "[input]\nsample = \"bubble\"\nparticles = 2000\n\n[[prop]]\nshape = \"mesh\"\n\
+             file = \"{file}\"\nposition = [1.6, -0.8, 0.0]\nscale = 0.3\nmaterial = \"metal\"\n"
+        )
+    };
+    let ok = write("mesh.toml", &scene("cube.obj"));
+    let out = tmp("mesh.png");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &ok,
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "48x32",
+        "--spp",
+        "1",
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.exists());
+    for (file, needles) in [
+        (
+            "broken.obj",
+            vec!["prop 1 (line 6)", "broken.obj", "line 3", "out of range"],
+        ),
+        ("missing.obj", vec!["prop 1 (line 6)", "missing.obj"]),
+    ] {
+        let bad = write("bad-mesh.toml", &scene(file));
+        let (code, _, err) = filmsplat(&["render", &bad, "-o", tmp("x.png").to_str().unwrap()]);
+        assert_eq!(code, 2, "{err}");
+        assert_eq!(
+            err.lines().filter(|l| !l.trim().is_empty()).count(),
+            1,
+            "{err}"
+        );
+        for n in needles {
+            assert!(err.contains(n), "'{n}' not in {err}");
+        }
+    }
+}

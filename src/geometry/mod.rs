@@ -33,7 +33,7 @@ pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{Bvh, BvhNode, BvhParams};
 pub use film::FilmGeometry;
-pub use props::{PropHit, Props, Shape};
+pub use props::{Mesh, PropHit, Props, Shape};
 pub use splat::{SplatGeometry, SurfaceHit};
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`

@@ -324,7 +324,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         settings.width as f32 / settings.height as f32,
     )?;
     let environment = environment(desc, base)?;
-    let staging = studio::staging(desc, centre, epsilon)?;
+    let staging = studio::staging(desc, base, centre, epsilon)?;
     let shader = FilmShader::new(ior, shading, wavelengths, strategy);
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {

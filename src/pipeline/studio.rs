@@ -1,12 +1,15 @@
 //! Scene-file lights and props → the renderer's [`Staging`]. Errors name the entry, its
 //! line and the key.
 
-use crate::geometry::{Props, Shape};
+use crate::geometry::{Mesh, Props, Shape};
+use crate::io::obj::read_obj;
 use crate::render::{AreaLight, LightShape, Material, Staging};
 use crate::scene::{LightDesc, PropDesc, SceneDesc};
 use crate::spectrum::Blackbody;
 use crate::{Error, Result};
 use glam::Vec3;
+use std::path::Path;
+use std::sync::Arc;
 
 /// Radiance of 1 in scene units corresponds to this luminance, cd/m² (a convention: display
 /// white at 0 EV is 100 nits).
@@ -31,7 +34,7 @@ fn positive(v: Option<f32>) -> Option<f32> {
 
 /// Builds the lights and props of `desc`; `centre` is what lights face by default, `eps` the
 /// scene's self-intersection distance.
-pub fn staging(desc: &SceneDesc, centre: Vec3, eps: f32) -> Result<Staging> {
+pub fn staging(desc: &SceneDesc, base: &Path, centre: Vec3, eps: f32) -> Result<Staging> {
     let lights = desc
         .light
         .iter()
@@ -41,7 +44,7 @@ pub fn staging(desc: &SceneDesc, centre: Vec3, eps: f32) -> Result<Staging> {
     let mut shapes = Vec::with_capacity(desc.prop.len());
     let mut materials = Vec::with_capacity(desc.prop.len());
     for (i, p) in desc.prop.iter().enumerate() {
-        let (s, m) = prop(i, p)?;
+        let (s, m) = prop(i, p, base)?;
         shapes.push(s);
         materials.push(m);
     }
@@ -154,7 +157,7 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
     })
 }
 
-fn prop(i: usize, p: &PropDesc) -> Result<(Shape, Material)> {
+fn prop(i: usize, p: &PropDesc, base: &Path) -> Result<(Shape, Material)> {
     let e = |msg: String| err("prop", i, p.line, msg);
     let position = finite(p.position).ok_or_else(|| e("position must be finite".into()))?;
     let axis = || {
@@ -201,9 +204,28 @@ fn prop(i: usize, p: &PropDesc) -> Result<(Shape, Material)> {
                 minor,
             }
         }
+        "mesh" => {
+            let file = p
+                .file
+                .as_ref()
+                .ok_or_else(|| e("file = \"mesh.obj\" is required".into()))?;
+            let scale = p.scale.unwrap_or(1.0);
+            if !(scale.is_finite() && scale > 0.0) {
+                return Err(e(format!("scale must be > 0, got {scale}")));
+            }
+            let obj = read_obj(&base.join(file)).map_err(|x| e(x.to_string()))?;
+            let vertices: Vec<Vec3> = obj
+                .vertices
+                .iter()
+                .map(|v| Vec3::from(*v) * scale + position)
+                .collect();
+            Shape::Mesh(Arc::new(
+                Mesh::new(&vertices, &obj.triangles).map_err(|x| e(x.to_string()))?,
+            ))
+        }
         other => {
             return Err(e(format!(
-                "shape: unknown '{other}' (expected plane, sphere, box, cylinder or torus)"
+                "shape: unknown '{other}' (expected plane, sphere, box, cylinder, torus or mesh)"
             )));
         }
     };

@@ -73,10 +73,15 @@ pub struct LightDesc {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PropDesc {
-    /// "plane", "sphere", "box", "cylinder" or "torus".
+    /// "plane", "sphere", "box", "cylinder", "torus" or "mesh".
     pub shape: Spanned<String>,
-    /// Plane: a point on it; sphere, box, torus: centre; cylinder: centre of its base.
+    /// Plane: a point on it; sphere, box, torus: centre; cylinder: centre of its base; mesh:
+    /// offset added to its vertices.
     pub position: [f32; 3],
+    /// Mesh: Wavefront OBJ file, relative to the scene file.
+    pub file: Option<PathBuf>,
+    /// Mesh: factor on its vertices (before the offset), default 1.
+    pub scale: Option<f32>,
     /// Plane normal (default +y).
     pub normal: Option<[f32; 3]>,
     /// Sphere and cylinder radius; torus ring radius.

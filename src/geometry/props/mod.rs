@@ -1,14 +1,16 @@
 //! Props: opaque shapes that stage a shot (ground, backdrop, spheres, boxes, cylinders, wire
-//! rings). Pure geometry: a hit gives the distance, the outward unit normal and the index of
+//! rings, triangle meshes). Pure geometry: a hit gives the distance, the outward unit normal and the index of
 //! the shape; materials live in the renderer. Scenes hold a handful of props, so the set is a
 //! flat list tested in order (no acceleration structure), and an empty set costs one length
 //! check per ray.
 
+mod mesh;
 mod shapes;
 
 use super::Ray;
 use glam::Vec3;
 
+pub use mesh::Mesh;
 pub use shapes::Shape;
 
 /// A ray's first prop hit.

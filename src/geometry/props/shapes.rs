@@ -1,11 +1,13 @@
 //! The prop shapes and their ray intersections (analytic, except the torus: sphere tracing of
 //! its exact distance function).
 
+use super::mesh::Mesh;
 use crate::geometry::Ray;
 use glam::Vec3;
+use std::sync::Arc;
 
 /// An opaque shape. Directions (`normal`, `axis`) are unit vectors.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Shape {
     /// An infinite plane through `point` (ground, backdrop). Two-sided.
     Plane {
@@ -51,6 +53,8 @@ pub enum Shape {
         /// Tube radius, 0 < minor < major for a ring.
         minor: f32,
     },
+    /// A triangle mesh.
+    Mesh(Arc<Mesh>),
 }
 
 /// Roots of `a t² + 2 b t + c = 0` (a > 0), ascending; `None` if there are none.
@@ -129,6 +133,7 @@ impl Shape {
                 major,
                 minor,
             } => torus(ray, centre, axis, major, minor, t_min, t_max, eps),
+            Shape::Mesh(ref m) => m.intersect(ray, t_min, t_max),
         }
     }
 }
