@@ -84,6 +84,8 @@ fn a_studio_scene_renders_in_every_shading_mode() {
             mode,
             "--wavelengths",
             "8",
+            "--light-samples",
+            "2",
             "-q",
         ]);
         assert_eq!(code, 0, "{mode}: {err}");

@@ -104,6 +104,10 @@ pub struct RenderArgs {
     /// Exposure, EV (stops).
     #[arg(long, allow_hyphen_values = true)]
     exposure: Option<f32>,
+    /// Light samples per prop hit (each: a light point, an environment direction and a
+    /// material direction, combined by multiple importance sampling).
+    #[arg(long)]
+    light_samples: Option<u32>,
     /// Thin-lens aperture radius, scene units (0: pinhole, everything sharp).
     #[arg(long)]
     aperture: Option<f32>,
@@ -214,6 +218,7 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.camera.fov, a.fov);
     set!(d.output.exposure, a.exposure);
     set!(d.camera.aperture, a.aperture);
+    set!(d.render.light_samples, a.light_samples);
     set!(d.camera.focus_distance, a.focus_distance);
     set!(d.output.white_balance, a.white_balance);
     set!(d.output.contrast, a.contrast);
