@@ -138,6 +138,7 @@ fn main() {
             environment: Environment::Studio(Studio::default()),
             layer_skip: 0.5 * radii[0],
             epsilon: 1e-5,
+            staging: Default::default(),
         };
         let settings = RenderSettings {
             width: w,

@@ -36,6 +36,7 @@ fn big_disk_scene(thickness: f32, env: Environment) -> Scene {
         environment: env,
         layer_skip: 1e-3,
         epsilon: 1e-5,
+        staging: Default::default(),
     }
 }
 
@@ -97,6 +98,7 @@ fn a_white_furnace_makes_a_lossless_film_vanish() {
         environment: Environment::Uniform(Vec3::ONE),
         layer_skip: 0.005,
         epsilon: 1e-5,
+        staging: Default::default(),
     };
     for mode in [ShadingMode::Lut, ShadingMode::Rgb] {
         let shader = FilmShader::new(1.33, mode, 8, WavelengthStrategy::Hero);
@@ -178,6 +180,7 @@ fn overlapping_splats_make_one_seamless_film() {
         environment: front_white_back_black(),
         layer_skip: 0.5 * spacing,
         epsilon: 1e-5,
+        staging: Default::default(),
     };
     let shader = FilmShader::new(1.33, ShadingMode::Lut, 16, WavelengthStrategy::Jittered);
     let (w, h) = (64, 48);

@@ -42,8 +42,9 @@ pub struct RenderArgs {
     /// Random seed; the same seed gives the same image.
     #[arg(long)]
     seed: Option<u64>,
-    /// Film shading: lut (precomputed colour table, fastest) or rgb (per-hit spectral
-    /// integration over --wavelengths wavelengths).
+    /// Film shading: lut (precomputed colour table, fastest), rgb (per-hit spectral
+    /// integration over --wavelengths wavelengths) or spectral (full spectral transport, the
+    /// reference; at most 16 wavelengths).
     #[arg(long)]
     shading: Option<String>,
     /// Wavelengths per camera sample for --shading rgb (1..64).
@@ -109,6 +110,25 @@ pub struct RenderArgs {
     /// Exposure, EV (stops).
     #[arg(long, allow_hyphen_values = true)]
     exposure: Option<f32>,
+    /// Light samples per prop hit (each: a light point, an environment direction and a
+    /// material direction, combined by multiple importance sampling).
+    #[arg(long)]
+    light_samples: Option<u32>,
+    /// Thin-lens aperture radius, scene units (0: pinhole, everything sharp).
+    #[arg(long)]
+    aperture: Option<f32>,
+    /// Distance in focus, scene units (default: the distance to the look-at point).
+    #[arg(long)]
+    focus_distance: Option<f32>,
+    /// White balance: neutralise light of this colour temperature, kelvin (1667..25000).
+    #[arg(long)]
+    white_balance: Option<f32>,
+    /// Contrast around middle grey (1 = unchanged).
+    #[arg(long)]
+    contrast: Option<f32>,
+    /// Saturation (1 = unchanged, 0 = grey).
+    #[arg(long)]
+    saturation: Option<f32>,
     /// Tone curve for PNG: filmic or clamp.
     #[arg(long)]
     tonemap: Option<String>,
@@ -209,6 +229,12 @@ fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.camera.look_at, a.look_at);
     set!(d.camera.fov, a.fov);
     set!(d.output.exposure, a.exposure);
+    set!(d.camera.aperture, a.aperture);
+    set!(d.render.light_samples, a.light_samples);
+    set!(d.camera.focus_distance, a.focus_distance);
+    set!(d.output.white_balance, a.white_balance);
+    set!(d.output.contrast, a.contrast);
+    set!(d.output.saturation, a.saturation);
     set!(d.output.tonemap, a.tonemap);
     set!(d.render.view, a.view);
     if a.repair {

@@ -10,6 +10,7 @@
 //! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
 //! * [`FilmGeometry`]: the closed set of film geometries the renderer goes through.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
+//! * [`props`]: opaque staging shapes (plane, sphere, box, cylinder, torus).
 
 mod aabb;
 mod blend;
@@ -18,6 +19,7 @@ mod bvh_build;
 mod disk4;
 mod film;
 pub mod primitives;
+pub mod props;
 mod query;
 mod splat;
 mod wide;
@@ -31,6 +33,7 @@ pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{Bvh, BvhNode, BvhParams};
 pub use film::FilmGeometry;
+pub use props::{Mesh, PropHit, Props, Shape};
 pub use splat::{SplatGeometry, SurfaceHit};
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`

@@ -1,4 +1,4 @@
-//! Image stage: linear-RGB pixel buffers, exposure and tone mapping to sRGB8, atomic PNG and
+//! Image stage: linear-RGB pixel buffers, grading, exposure and tone mapping to sRGB8, atomic PNG and
 //! EXR output, EXR input (environment maps), and chart drawing (text, lines, rectangles,
 //! viridis colour map), and image-comparison metrics (PSNR, SSIM, CIEDE2000).
 //!
@@ -11,6 +11,7 @@ mod colormap;
 pub mod draw;
 pub mod exr;
 mod font;
+pub mod grade;
 pub mod metrics;
 mod png;
 pub mod text;
@@ -21,6 +22,7 @@ pub use buffer::RgbImage;
 pub use colormap::viridis;
 pub use draw::{blend, draw_line, fill_rect, stroke_rect};
 pub use exr::{ExrLayers, read_exr, read_exr_rgba, write_exr};
+pub use grade::Grade;
 pub use png::{save_png, write_png, write_png_rgba};
 pub use text::{
     Anchor, FontMetrics, HAlign, VAlign, draw_text, draw_text_vertical, font_metrics, text_width,

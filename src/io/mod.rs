@@ -30,6 +30,7 @@ mod columns;
 pub mod csv;
 pub mod frame_folder;
 mod num;
+pub mod obj;
 pub mod ply;
 mod sources;
 pub mod vtk;

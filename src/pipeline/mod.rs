@@ -10,8 +10,10 @@
 //! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
 //! ```
 
+mod studio;
+
 use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
-use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
+use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::curvature::{curvature_from_table, gradient_from_table};
@@ -47,6 +49,8 @@ pub struct Prepared {
     pub exposure: f32,
     /// Tone curve for PNG output.
     pub tonemap: ToneMap,
+    /// Grading (white balance, contrast, saturation) before the tone curve.
+    pub grade: Grade,
     /// What to show.
     pub view: View,
     /// Output path from the scene file, resolved against its folder.
@@ -164,6 +168,9 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         min_weight: r.min_weight.unwrap_or(defaults.min_weight),
         seed: r.seed.unwrap_or(0),
         progress,
+        light_samples: r.light_samples.unwrap_or(1).clamp(1, 1024),
+        prop_bounces: r.prop_bounces.unwrap_or(1).min(8),
+        ..RenderSettings::default()
     };
     if settings.width == 0
         || settings.height == 0
@@ -183,6 +190,12 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         return Err(Error::invalid(format!(
             "render.wavelengths must be 1..={}, got {wavelengths}",
             crate::spectrum::wavelengths::MAX_WAVELENGTHS
+        )));
+    }
+    if shading == ShadingMode::Spectral && wavelengths > crate::render::radiance::SPECTRAL_LANES {
+        return Err(Error::invalid(format!(
+            "render.wavelengths must be 1..={} for spectral shading, got {wavelengths}",
+            crate::render::radiance::SPECTRAL_LANES
         )));
     }
     let thickness_scale = desc.film.thickness_scale.unwrap_or(1.0);
@@ -313,6 +326,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         settings.width as f32 / settings.height as f32,
     )?;
     let environment = environment(desc, base)?;
+    let staging = studio::staging(desc, base, centre, epsilon)?;
     let shader = FilmShader::new(ior, shading, wavelengths, strategy);
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {
@@ -322,11 +336,13 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             environment,
             layer_skip,
             epsilon,
+            staging,
         },
         shader,
         settings,
         exposure: desc.output.exposure.unwrap_or(0.0),
         tonemap,
+        grade: grade(desc)?,
         view,
         output,
         particles: cloud.len(),
@@ -368,13 +384,58 @@ fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Cam
                     "camera.position and camera.look_at are the same point",
                 ));
             }
-            Ok(Camera::look_at(p, target, up, fov))
+            lens(c, Camera::look_at(p, target, up, fov), target)
         }
         None => {
             let from = vec3(c.from.unwrap_or([0.35, 0.3, 1.0]), "camera.from")?;
-            Ok(Camera::frame(centre, reach, from, up, fov, aspect))
+            lens(
+                c,
+                Camera::frame(centre, reach, from, up, fov, aspect),
+                centre,
+            )
         }
     }
+}
+
+/// The grading of `[output]`.
+fn grade(desc: &SceneDesc) -> Result<Grade> {
+    let o = &desc.output;
+    let mut gains = match o.white_balance {
+        Some(k) => Grade::white_balance_gains(k)
+            .map_err(|e| Error::invalid(format!("output.white_balance: {e}")))?,
+        None => [1.0; 3],
+    };
+    if let Some(g) = o.gains {
+        gains = [0, 1, 2].map(|i| gains[i] * g[i]);
+    }
+    let g = Grade {
+        gains,
+        contrast: o.contrast.unwrap_or(1.0),
+        saturation: o.saturation.unwrap_or(1.0),
+    };
+    g.validate()
+        .map_err(|e| Error::invalid(format!("output: {e}")))?;
+    Ok(g)
+}
+
+/// Adds the thin lens of `[camera]` (`aperture`, `focus_distance`, default: focused on
+/// `target`).
+fn lens(c: &crate::scene::CameraDesc, cam: Camera, target: Vec3) -> Result<Camera> {
+    let aperture = c.aperture.unwrap_or(0.0);
+    if !(aperture.is_finite() && aperture >= 0.0) {
+        return Err(Error::invalid(format!(
+            "camera.aperture must be >= 0, got {aperture}"
+        )));
+    }
+    let focus = c
+        .focus_distance
+        .unwrap_or_else(|| (target - cam.position).dot(cam.forward()));
+    if !(focus.is_finite() && focus > 0.0) {
+        return Err(Error::invalid(format!(
+            "camera.focus_distance must be > 0, got {focus}"
+        )));
+    }
+    Ok(cam.with_lens(aperture, focus))
 }
 
 fn environment(desc: &SceneDesc, base: &Path) -> Result<Environment> {
@@ -436,7 +497,7 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
         Some("png") => {
             let data = out.rgb.iter().map(|c| c.to_array()).collect();
             let img = RgbImage::from_data(out.width, out.height, data)?;
-            save_png(path, &img, p.exposure, p.tonemap)
+            save_png(path, &p.grade.apply(&img), p.exposure, p.tonemap)
         }
         Some("exr") => {
             let rgba = out

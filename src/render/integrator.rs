@@ -6,12 +6,21 @@
 //! random walk — until the branch's weight falls below `min_weight` or the depth reaches
 //! `max_depth`; such a branch then returns the environment seen along it (it "escapes"). This
 //! keeps a white furnace exactly white and the image free of path-tracing noise.
+//!
+//! The studio ([`Staging`]) adds area lights, which rays meet before the environment, and
+//! opaque props, shaded by light sampling (see [`super::transport`]). The transport is written
+//! once, generic over RGB and spectral radiance; `--shading spectral` runs the spectral
+//! instance, the other modes the RGB one.
 
 use super::camera::Camera;
 use super::environment::Environment;
+use super::lights::AreaLight;
+use super::material::Material;
+use super::radiance::{Lanes, Radiance, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
-use super::shading::{FilmShader, SampleShading};
-use crate::geometry::{FilmGeometry, Ray, SurfaceHit};
+use super::shading::{FilmShader, SampleShading, ShadingMode};
+use super::transport::{PathState, Tracer};
+use crate::geometry::{FilmGeometry, Props, SurfaceHit};
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -30,6 +39,19 @@ pub struct Scene {
     pub layer_skip: f32,
     /// Small distance (scene units) against self-intersection, ~1e-5 of the scene's size.
     pub epsilon: f32,
+    /// Area lights and props (empty by default: then rays pay nothing for them).
+    pub staging: Staging,
+}
+
+/// The studio around the films: area lights and props.
+#[derive(Debug, Clone, Default)]
+pub struct Staging {
+    /// Area lights.
+    pub lights: Vec<AreaLight>,
+    /// Opaque props.
+    pub props: Props,
+    /// One material per prop, in the props' order.
+    pub materials: Vec<Material>,
 }
 
 /// How to render it.
@@ -49,6 +71,13 @@ pub struct RenderSettings {
     pub seed: u64,
     /// Draw a progress bar on stderr (only when it is a terminal).
     pub progress: bool,
+    /// Light samples (each: one per light, environment and material strategy) per prop hit.
+    pub light_samples: u32,
+    /// Indirect bounces between props (0: direct light only).
+    pub prop_bounces: u32,
+    /// Sample lights and environment at props (next-event estimation with MIS); `false`
+    /// samples the material only (for checking: same mean, more noise).
+    pub next_event: bool,
 }
 
 impl Default for RenderSettings {
@@ -61,6 +90,9 @@ impl Default for RenderSettings {
             min_weight: 1e-3,
             seed: 0,
             progress: false,
+            light_samples: 1,
+            prop_bounces: 1,
+            next_event: true,
         }
     }
 }
@@ -90,72 +122,6 @@ pub struct RenderOutput {
 
 const TILE: usize = 16;
 
-struct Tracer<'a> {
-    scene: &'a Scene,
-    shader: &'a FilmShader,
-    settings: &'a RenderSettings,
-}
-
-/// Per-sample state carried down the ray tree.
-struct PathState {
-    shading: SampleShading,
-    rays: u64,
-}
-
-impl Tracer<'_> {
-    /// Radiance arriving along `ray` from beyond `t_min`.
-    fn trace(&self, ray: &Ray, t_min: f32, depth: u32, weight: Vec3, st: &mut PathState) -> Vec3 {
-        if depth >= self.settings.max_depth || weight.max_element() < self.settings.min_weight {
-            return self.scene.environment.radiance(ray.dir);
-        }
-        st.rays += 1;
-        match self.scene.geometry.intersect(ray, t_min, f32::INFINITY) {
-            None => self.scene.environment.radiance(ray.dir),
-            Some(hit) => self.shade(ray, &hit, depth, weight, st),
-        }
-    }
-
-    /// Radiance leaving a film crossing `hit` back along `ray`: the reflected and the
-    /// transmitted branch, weighted by R and T = 1 − R.
-    fn shade(
-        &self,
-        ray: &Ray,
-        hit: &SurfaceHit,
-        depth: u32,
-        weight: Vec3,
-        st: &mut PathState,
-    ) -> Vec3 {
-        let cos_signed = ray.dir.dot(hit.normal);
-        let cos_i = cos_signed.abs().min(1.0);
-        let r = self
-            .shader
-            .reflectance(&st.shading, cos_i, hit.thickness_nm);
-        let t = Vec3::ONE - r;
-        // Transmitted: the same line, beyond the film layer.
-        let lt = self.trace(
-            ray,
-            hit.t_exit + self.scene.epsilon,
-            depth + 1,
-            weight * t,
-            st,
-        );
-        // Reflected: mirror about the normal that faces the incoming ray.
-        let n = if cos_signed < 0.0 {
-            hit.normal
-        } else {
-            -hit.normal
-        };
-        let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
-        let skip = (self.scene.layer_skip / cos_i.max(0.1)).max(self.scene.epsilon);
-        let reflected = Ray {
-            origin: hit.position,
-            dir,
-        };
-        let lr = self.trace(&reflected, skip, depth + 1, weight * r, st);
-        r * lr + t * lt
-    }
-}
-
 /// Renders `scene` with `shader` and `settings`. Deterministic for a given seed.
 pub fn render(
     scene: &Scene,
@@ -171,12 +137,15 @@ pub fn render(
     if settings.spp == 0 {
         return Err(Error::invalid("samples per pixel must be at least 1"));
     }
+    if scene.staging.materials.len() != scene.staging.props.len() {
+        return Err(Error::invalid(format!(
+            "{} props but {} materials",
+            scene.staging.props.len(),
+            scene.staging.materials.len()
+        )));
+    }
     let aspect = w as f32 / h as f32;
-    let tracer = Tracer {
-        scene,
-        shader,
-        settings,
-    };
+    let tracer = Tracer::new(scene, settings);
     let tiles_x = w.div_ceil(TILE);
     let tiles: Vec<(usize, usize)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..tiles_x).map(move |tx| (tx, ty)))
@@ -187,19 +156,30 @@ pub fn render(
         .map(|&(tx, ty)| {
             let (x0, y0) = (tx * TILE, ty * TILE);
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-            let mut st = PathState {
-                shading: SampleShading::default(),
-                rays: 0,
-            };
+            let mut shading = SampleShading::default();
+            let mut rays = 0;
             let mut u = Vec::with_capacity(shader.randoms_per_sample());
             let mut pixels = Vec::with_capacity((x1 - x0) * (y1 - y0));
             for y in y0..y1 {
                 for x in x0..x1 {
-                    pixels.push(render_pixel(&tracer, x, y, aspect, &mut st, &mut u));
+                    let mut st = PathState {
+                        rng: Pcg32::new(settings.seed, mix64((y * w + x) as u64)),
+                        rays: 0,
+                    };
+                    let px = Px { x, y, aspect };
+                    pixels.push(render_pixel(
+                        &tracer,
+                        shader,
+                        px,
+                        &mut st,
+                        &mut shading,
+                        &mut u,
+                    ));
+                    rays += st.rays;
                 }
             }
             bar.inc(1);
-            (x0, y0, pixels, st.rays)
+            (x0, y0, pixels, rays)
         })
         .collect();
     bar.finish_and_clear();
@@ -230,6 +210,12 @@ pub fn render(
     Ok(out)
 }
 
+struct Px {
+    x: usize,
+    y: usize,
+    aspect: f32,
+}
+
 #[derive(Default)]
 struct Pixel {
     rgb: Vec3,
@@ -242,22 +228,25 @@ struct Pixel {
 
 fn render_pixel(
     tr: &Tracer,
-    x: usize,
-    y: usize,
-    aspect: f32,
+    shader: &FilmShader,
+    px: Px,
     st: &mut PathState,
+    shading: &mut SampleShading,
     u: &mut Vec<f32>,
 ) -> Pixel {
     let s = tr.settings;
     let (w, h) = (s.width, s.height);
-    let mut rng = Pcg32::new(s.seed, mix64((y * w + x) as u64));
+    let (x, y) = (px.x, px.y);
     let strata = (s.spp as f32).sqrt() as u32;
     let square = strata * strata == s.spp;
+    let spectral = shader.mode() == ShadingMode::Spectral;
+    let camera = &tr.scene.camera;
     let mut p = Pixel::default();
     let mut hit_samples = 0u32;
     for i in 0..s.spp {
         // Sub-pixel position: the centre for 1 spp, jittered strata for square counts, else
         // uniform jitter.
+        let rng = &mut st.rng;
         let (jx, jy) = if s.spp == 1 {
             (0.5, 0.5)
         } else if square {
@@ -270,26 +259,37 @@ fn render_pixel(
             (rng.next_f32(), rng.next_f32())
         };
         u.clear();
-        u.extend((0..tr.shader.randoms_per_sample()).map(|_| rng.next_f32()));
-        tr.shader.begin_sample(&mut st.shading, u);
-        let ray = tr.scene.camera.ray(
+        u.extend((0..shader.randoms_per_sample()).map(|_| rng.next_f32()));
+        shader.begin_sample(shading, u);
+        let lens = if camera.has_lens() {
+            (rng.next_f32(), rng.next_f32())
+        } else {
+            (0.5, 0.5)
+        };
+        let ray = camera.ray_lens(
             (x as f32 + jx) / w as f32,
             (y as f32 + jy) / h as f32,
-            aspect,
+            px.aspect,
+            lens,
         );
         // The first crossing feeds the auxiliary buffers, then the ray tree.
-        st.rays += 1;
-        let c = match tr.scene.geometry.intersect(&ray, 0.0, f32::INFINITY) {
-            Some(hit) => {
-                hit_samples += 1;
-                p.depth += hit.t;
-                p.normal += hit.normal;
-                p.thickness += hit.thickness_nm;
-                p.hits += hit.coverage as f32;
-                tr.shade(&ray, &hit, 0, Vec3::ONE, st)
-            }
-            None => tr.scene.environment.radiance(ray.dir),
+        let (c, hit) = if spectral {
+            let lanes = SpectralLanes::new(shading, shader.ior());
+            first(tr, &lanes, &ray, st)
+        } else {
+            let lanes = RgbLanes {
+                shader,
+                state: shading,
+            };
+            first(tr, &lanes, &ray, st)
         };
+        if let Some(hit) = hit {
+            hit_samples += 1;
+            p.depth += hit.t;
+            p.normal += hit.normal;
+            p.thickness += hit.thickness_nm;
+            p.hits += hit.coverage as f32;
+        }
         // Drop non-finite samples rather than poison the pixel (pbrt does the same).
         if c.is_finite() {
             p.rgb += c;
@@ -306,6 +306,17 @@ fn render_pixel(
         p.hits *= k;
     }
     p
+}
+
+/// One camera ray: its linear RGB radiance, and the film crossing if a film was nearest.
+fn first<L: Lanes>(
+    tr: &Tracer,
+    l: &L,
+    ray: &crate::geometry::Ray,
+    st: &mut PathState,
+) -> (Vec3, Option<SurfaceHit>) {
+    let (c, hit) = tr.nearest(l, ray, 0.0, 0, L::C::splat(1.0), st);
+    (l.to_rgb(c), hit)
 }
 
 fn progress_bar(enabled: bool, len: u64) -> indicatif::ProgressBar {

@@ -1,16 +1,24 @@
-//! Rendering: camera, environment lighting, the film shader and the integrator.
+//! Rendering: camera, environment and area lights, prop materials, the film shader and the
+//! integrator.
 
 pub mod camera;
+pub mod env_sampling;
 pub mod environment;
 pub mod integrator;
+pub mod lights;
+pub mod material;
 pub mod presets;
+pub mod radiance;
 pub mod sampler;
 pub mod shading;
+mod transport;
 pub mod views;
 
 pub use camera::Camera;
 pub use environment::{Environment, LatLongMap, SoftBox, Studio};
-pub use integrator::{RenderOutput, RenderSettings, Scene, render};
+pub use integrator::{RenderOutput, RenderSettings, Scene, Staging, render};
+pub use lights::{AreaLight, LightShape};
+pub use material::Material;
 pub use presets::{Preset, PresetValues};
 pub use shading::{FilmShader, ShadingMode};
 pub use views::{Legend, View, ViewImage, render_view};

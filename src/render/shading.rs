@@ -18,6 +18,10 @@ pub enum ShadingMode {
     /// Per-hit integration over the sample's wavelengths (`--wavelengths N`, jittered per camera
     /// sample so thick films converge instead of aliasing), reduced to RGB at the hit.
     Rgb,
+    /// Full spectral transport: each camera sample carries its `--wavelengths N` (at most 16,
+    /// jittered per sample) through every bounce; RGB inputs become smooth spectra (Smits
+    /// 1999) and the pixel gets spectrum → XYZ → linear sRGB. The reference mode.
+    Spectral,
 }
 
 impl FromStr for ShadingMode {
@@ -26,7 +30,10 @@ impl FromStr for ShadingMode {
         match s {
             "lut" => Ok(Self::Lut),
             "rgb" => Ok(Self::Rgb),
-            _ => Err(format!("unknown shading mode '{s}' (expected lut or rgb)")),
+            "spectral" => Ok(Self::Spectral),
+            _ => Err(format!(
+                "unknown shading mode '{s}' (expected lut, rgb or spectral)"
+            )),
         }
     }
 }
@@ -36,6 +43,7 @@ impl fmt::Display for ShadingMode {
         f.write_str(match self {
             Self::Lut => "lut",
             Self::Rgb => "rgb",
+            Self::Spectral => "spectral",
         })
     }
 }
@@ -44,6 +52,7 @@ impl fmt::Display for ShadingMode {
 #[derive(Debug, Clone)]
 pub struct FilmShader {
     ior: f32,
+    mode: ShadingMode,
     lut: Option<FilmLut>,
     wavelengths: usize,
     strategy: WavelengthStrategy,
@@ -53,11 +62,19 @@ pub struct FilmShader {
 #[derive(Debug, Clone, Default)]
 pub struct SampleShading {
     weights: SpectralWeights,
+    lambda: Vec<f32>,
+}
+
+impl SampleShading {
+    /// The sample's wavelengths (nm) and their colour weights (empty for `lut`).
+    pub fn spectral(&self) -> (&[f32], &[[f32; 3]]) {
+        (&self.lambda, self.weights.weights())
+    }
 }
 
 impl FilmShader {
     /// A shader for film index `ior` in `mode`; `wavelengths` and `strategy` apply to
-    /// [`ShadingMode::Rgb`]. Building the LUT costs ~0.3 s on 2 cores.
+    /// [`ShadingMode::Rgb`] and [`ShadingMode::Spectral`]. Building the LUT costs ~0.3 s on 2 cores.
     pub fn new(
         ior: f32,
         mode: ShadingMode,
@@ -67,10 +84,16 @@ impl FilmShader {
         let lut = (mode == ShadingMode::Lut).then(|| FilmLut::new(ior));
         FilmShader {
             ior,
+            mode,
             lut,
             wavelengths,
             strategy,
         }
+    }
+
+    /// The shading mode.
+    pub fn mode(&self) -> ShadingMode {
+        self.mode
     }
 
     /// The film's index of refraction.
@@ -91,6 +114,8 @@ impl FilmShader {
                 WavelengthStrategy::Stratified => state.weights.set(wl.as_slice()),
                 _ => state.weights.set_unbiased(wl.as_slice()),
             }
+            state.lambda.clear();
+            state.lambda.extend_from_slice(wl.as_slice());
         }
     }
 

@@ -227,6 +227,7 @@ mod tests {
             environment: Environment::Uniform(Vec3::ONE),
             layer_skip: 0.1,
             epsilon: 1e-5,
+            staging: Default::default(),
         };
         let v = render_view(&scene, View::Thickness, 40, 20).unwrap();
         let legend = v.legend.unwrap();

@@ -4,6 +4,7 @@
 
 use serde::Deserialize;
 use std::path::PathBuf;
+use toml::Spanned;
 
 /// A whole scene file.
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -27,6 +28,82 @@ pub struct SceneDesc {
     /// Output files and tone mapping.
     #[serde(default)]
     pub output: OutputDesc,
+    /// `[[light]]`: area lights.
+    #[serde(default)]
+    pub light: Vec<LightDesc>,
+    /// `[[prop]]`: opaque props.
+    #[serde(default)]
+    pub prop: Vec<PropDesc>,
+}
+
+/// `[[light]]`: one area light. Which keys apply depends on `shape`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightDesc {
+    /// "rect", "disk" or "sphere" ("point" and "directional" are refused: a film cannot show
+    /// them).
+    pub shape: Spanned<String>,
+    /// Centre, scene units.
+    pub position: [f32; 3],
+    /// Point the rect/disk faces (default: the scene's centre); or give `normal`.
+    pub look_at: Option<[f32; 3]>,
+    /// Direction the rect/disk emits toward (instead of `look_at`).
+    pub normal: Option<[f32; 3]>,
+    /// Rect width and height, scene units.
+    pub size: Option<[f32; 2]>,
+    /// Up hint orienting a rect's height (default +y).
+    pub up: Option<[f32; 3]>,
+    /// Disk or sphere radius, scene units.
+    pub radius: Option<f32>,
+    /// Emitted radiance, linear sRGB per channel (W·sr⁻¹·m⁻² in scene units).
+    pub radiance: Option<[f32; 3]>,
+    /// Luminance in cd/m² (nits), instead of `radiance`: 100 nits = radiance 1.
+    pub luminance: Option<f32>,
+    /// Colour of a `luminance` light (scaled to luminance 1; default white).
+    pub colour: Option<[f32; 3]>,
+    /// Black-body colour temperature, kelvin, for a `luminance` light instead of `colour`:
+    /// spectral shading then carries the Planck spectrum itself.
+    pub temperature: Option<f32>,
+    /// Line of the `shape` key (filled in by the parser).
+    #[serde(skip)]
+    pub line: usize,
+}
+
+/// `[[prop]]`: one opaque prop. Which keys apply depends on `shape`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PropDesc {
+    /// "plane", "sphere", "box", "cylinder", "torus" or "mesh".
+    pub shape: Spanned<String>,
+    /// Plane: a point on it; sphere, box, torus: centre; cylinder: centre of its base; mesh:
+    /// offset added to its vertices.
+    pub position: [f32; 3],
+    /// Mesh: Wavefront OBJ file, relative to the scene file.
+    pub file: Option<PathBuf>,
+    /// Mesh: factor on its vertices (before the offset), default 1.
+    pub scale: Option<f32>,
+    /// Plane normal (default +y).
+    pub normal: Option<[f32; 3]>,
+    /// Sphere and cylinder radius; torus ring radius.
+    pub radius: Option<f32>,
+    /// Torus tube radius.
+    pub minor_radius: Option<f32>,
+    /// Box edge lengths (axis-aligned).
+    pub size: Option<[f32; 3]>,
+    /// Cylinder and torus axis (default +y).
+    pub axis: Option<[f32; 3]>,
+    /// Cylinder length along its axis.
+    pub height: Option<f32>,
+    /// "diffuse" (default), "glossy" or "metal".
+    pub material: Option<String>,
+    /// Albedo (diffuse, glossy) or normal-incidence reflectance (metal), linear sRGB 0..1
+    /// (default 0.8 grey).
+    pub colour: Option<[f32; 3]>,
+    /// Roughness 0..1 of glossy and metal (default 0.3; metal 0 is a mirror).
+    pub roughness: Option<f32>,
+    /// Line of the `shape` key (filled in by the parser).
+    #[serde(skip)]
+    pub line: usize,
 }
 
 /// `[input]`: a particle file, or a built-in sample generator.
@@ -93,6 +170,11 @@ pub struct CameraDesc {
     pub fov: Option<f32>,
     /// Direction from the cloud toward the camera for auto-framing (default [0.35, 0.3, 1]).
     pub from: Option<[f32; 3]>,
+    /// Thin-lens aperture radius, scene units (default 0: pinhole, all sharp).
+    pub aperture: Option<f32>,
+    /// Distance in focus, scene units (default: the distance to `look_at` or the cloud's
+    /// centre).
+    pub focus_distance: Option<f32>,
 }
 
 /// `[environment]`: the light.
@@ -131,8 +213,12 @@ pub struct RenderDesc {
     pub min_weight: Option<f32>,
     /// Random seed (default 0).
     pub seed: Option<u64>,
-    /// "lut" (default) or "rgb".
+    /// "lut" (default), "rgb" or "spectral".
     pub shading: Option<String>,
+    /// Light samples per prop hit (default 1).
+    pub light_samples: Option<u32>,
+    /// Indirect bounces between props (default 1).
+    pub prop_bounces: Option<u32>,
     /// Wavelengths per sample for "rgb" shading (default 16).
     pub wavelengths: Option<usize>,
     /// "jittered" (default), "stratified" or "hero".
@@ -152,17 +238,24 @@ pub struct OutputDesc {
     pub exposure: Option<f32>,
     /// "filmic" (default) or "clamp".
     pub tonemap: Option<String>,
+    /// White balance: colour temperature of the light to neutralise, kelvin (6504 = none).
+    pub white_balance: Option<f32>,
+    /// White balance as per-channel gains (instead of or after the temperature).
+    pub gains: Option<[f32; 3]>,
+    /// Contrast around middle grey (1 = unchanged).
+    pub contrast: Option<f32>,
+    /// Saturation (1 = unchanged, 0 = grey).
+    pub saturation: Option<f32>,
 }
 
 impl SceneDesc {
     /// Parses TOML text; `name` (the file) is used in error messages, which name the key and
     /// line.
     pub fn from_toml(text: &str, name: &str) -> crate::Result<Self> {
-        toml::from_str(text).map_err(|e| {
+        let line_of = |start: usize| text[..start.min(text.len())].matches('\n').count() + 1;
+        let mut desc: SceneDesc = toml::from_str(text).map_err(|e| {
             let msg = e.message().to_string();
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            let line = e.span().map(|s| line_of(s.start));
             crate::Error::Format {
                 path: name.into(),
                 format: "scene TOML",
@@ -171,7 +264,14 @@ impl SceneDesc {
                     None => msg,
                 },
             }
-        })
+        })?;
+        for l in &mut desc.light {
+            l.line = line_of(l.shape.span().start);
+        }
+        for p in &mut desc.prop {
+            p.line = line_of(p.shape.span().start);
+        }
+        Ok(desc)
     }
 }
 
@@ -202,5 +302,18 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("line 2"), "{e}");
+        let s = SceneDesc::from_toml(
+            "[input]\nsample = \"bubble\"\n\n[[light]]\nshape = \"disk\"\nposition = [0, 1, 0]\n\n[[prop]]\nshape = \"plane\"\nposition = [0, 0, 0]\n",
+            "d.toml",
+        )
+        .unwrap();
+        assert_eq!((s.light[0].line, s.prop[0].line), (5, 9));
+        let e = SceneDesc::from_toml(
+            "[[prop]]\nshape = \"box\"\nposition = [0, 0, 0]\nsizes = [1, 1, 1]\n",
+            "e.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("line 4") && e.contains("sizes"), "{e}");
     }
 }

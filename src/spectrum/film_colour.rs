@@ -111,6 +111,11 @@ impl SpectralWeights {
         }
     }
 
+    /// Per-wavelength colour weights (linear sRGB), in the order the wavelengths were given.
+    pub fn weights(&self) -> &[[f32; 3]] {
+        &self.weight
+    }
+
     /// Number of wavelengths.
     pub fn len(&self) -> usize {
         self.inv_lambda.len()

@@ -1,0 +1,362 @@
+//! Light transport, generic over what rays carry ([`Lanes`]): the films' specular ray tree,
+//! area lights and the environment where rays escape, and prop shading by next-event
+//! estimation with multiple importance sampling.
+//!
+//! Films stay purely specular (see [`super::integrator`]). At a prop, direct light is
+//! estimated per sample with three strategies — a point on a light chosen uniformly, a
+//! direction from the environment's importance distribution, and a direction from the
+//! material — each weighted by the power heuristic against the material strategy (lights and
+//! environment never cover the same direction, so each emitter sees two strategies). A
+//! material sample that meets another prop continues as one indirect bounce per
+//! `prop_bounces`. A perfect mirror prop is a specular branch of the tree instead.
+//!
+//! Light reaching a prop through films (shadow and material rays) passes straight through
+//! each film, attenuated by its transmittance `T = 1 − R` at that crossing: the light the
+//! films reflect onto props (their caustics) is left out.
+
+use super::env_sampling::EnvSampler;
+use super::integrator::{RenderSettings, Scene};
+use super::lights::nearest;
+use super::material::Material;
+use super::radiance::{Lanes, Radiance};
+use super::sampler::Pcg32;
+use crate::geometry::{PropHit, Ray, SurfaceHit};
+use glam::Vec3;
+
+/// The renderer's view of a scene for one render.
+pub(crate) struct Tracer<'a> {
+    pub scene: &'a Scene,
+    pub settings: &'a RenderSettings,
+    /// Environment sampling for props (None when the scene has no props).
+    pub env: Option<EnvSampler>,
+}
+
+/// Mutable per-path state.
+pub(crate) struct PathState {
+    pub rng: Pcg32,
+    pub rays: u64,
+}
+
+/// The power heuristic (β = 2) weight of a strategy with density `a` against one with `b`.
+#[inline]
+fn power(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2.is_infinite() {
+        1.0
+    } else if a2 + b2 > 0.0 {
+        a2 / (a2 + b2)
+    } else {
+        0.0
+    }
+}
+
+/// What a ray meeting `light` sees: its emission from the front, black from behind.
+#[inline]
+fn emitted<L: Lanes>(l: &L, light: &super::lights::AreaLight, front: bool) -> L::C {
+    if front {
+        l.emission(light)
+    } else {
+        L::C::splat(0.0)
+    }
+}
+
+impl<'a> Tracer<'a> {
+    pub fn new(scene: &'a Scene, settings: &'a RenderSettings) -> Self {
+        let env = (settings.next_event && !scene.staging.props.is_empty())
+            .then(|| EnvSampler::new(&scene.environment));
+        Tracer {
+            scene,
+            settings,
+            env,
+        }
+    }
+
+    /// Offset of rays leaving a prop, along its normal.
+    fn offset(&self) -> f32 {
+        4.0 * self.scene.epsilon
+    }
+
+    /// Radiance arriving along `ray` from beyond `t_min`.
+    pub fn trace<L: Lanes>(
+        &self,
+        l: &L,
+        ray: &Ray,
+        t_min: f32,
+        depth: u32,
+        weight: L::C,
+        st: &mut PathState,
+    ) -> L::C {
+        if depth >= self.settings.max_depth || weight.max_channel() < self.settings.min_weight {
+            return self.escape(l, ray, t_min);
+        }
+        self.nearest(l, ray, t_min, depth, weight, st).0
+    }
+
+    /// What a pruned branch sees: lights first, then the environment.
+    fn escape<L: Lanes>(&self, l: &L, ray: &Ray, t_min: f32) -> L::C {
+        let lights = &self.scene.staging.lights;
+        if !lights.is_empty()
+            && let Some((i, _, front)) = nearest(lights, ray, t_min, f32::INFINITY)
+        {
+            return emitted(l, &lights[i], front);
+        }
+        l.input(self.scene.environment.radiance(ray.dir))
+    }
+
+    /// Radiance along `ray` from its nearest film, prop or light (the environment if none),
+    /// and the film crossing when a film was nearest.
+    pub fn nearest<L: Lanes>(
+        &self,
+        l: &L,
+        ray: &Ray,
+        t_min: f32,
+        depth: u32,
+        weight: L::C,
+        st: &mut PathState,
+    ) -> (L::C, Option<SurfaceHit>) {
+        st.rays += 1;
+        let staging = &self.scene.staging;
+        let film = self.scene.geometry.intersect(ray, t_min, f32::INFINITY);
+        let mut t_max = film.as_ref().map_or(f32::INFINITY, |h| h.t);
+        let prop = if staging.props.is_empty() {
+            None
+        } else {
+            staging.props.intersect(ray, t_min, t_max)
+        };
+        if let Some(p) = &prop {
+            t_max = p.t;
+        }
+        if !staging.lights.is_empty()
+            && let Some((i, _, front)) = nearest(&staging.lights, ray, t_min, t_max)
+        {
+            return (emitted(l, &staging.lights[i], front), None);
+        }
+        if let Some(p) = prop {
+            let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
+            return (c, None);
+        }
+        match film {
+            Some(hit) => {
+                let c = self.shade_film(l, ray, &hit, depth, weight, st);
+                (c, Some(hit))
+            }
+            None => (l.input(self.scene.environment.radiance(ray.dir)), None),
+        }
+    }
+
+    /// Radiance leaving a film crossing `hit` back along `ray`: the reflected and the
+    /// transmitted branch, weighted by R and T = 1 − R.
+    fn shade_film<L: Lanes>(
+        &self,
+        l: &L,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        depth: u32,
+        weight: L::C,
+        st: &mut PathState,
+    ) -> L::C {
+        let cos_signed = ray.dir.dot(hit.normal);
+        let cos_i = cos_signed.abs().min(1.0);
+        let r = l.film_reflectance(cos_i, hit.thickness_nm);
+        let t = L::C::splat(1.0) - r;
+        // Transmitted: the same line, beyond the film layer.
+        let lt = self.trace(
+            l,
+            ray,
+            hit.t_exit + self.scene.epsilon,
+            depth + 1,
+            weight * t,
+            st,
+        );
+        // Reflected: mirror about the normal that faces the incoming ray.
+        let n = if cos_signed < 0.0 {
+            hit.normal
+        } else {
+            -hit.normal
+        };
+        let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
+        let skip = (self.scene.layer_skip / cos_i.max(0.1)).max(self.scene.epsilon);
+        let reflected = Ray {
+            origin: hit.position,
+            dir,
+        };
+        let lr = self.trace(l, &reflected, skip, depth + 1, weight * r, st);
+        r * lr + t * lt
+    }
+
+    /// Radiance leaving prop hit `hit` back along `ray`; `bounces` indirect bounces remain.
+    fn shade_prop<L: Lanes>(
+        &self,
+        l: &L,
+        ray: &Ray,
+        hit: &PropHit,
+        depth: u32,
+        bounces: u32,
+        st: &mut PathState,
+    ) -> L::C {
+        let m = &self.scene.staging.materials[hit.index];
+        let n = if hit.normal.dot(ray.dir) > 0.0 {
+            -hit.normal
+        } else {
+            hit.normal
+        };
+        let p = ray.at(hit.t) + n * self.offset();
+        let wo = -ray.dir;
+        if m.is_mirror() {
+            let f = m.mirror_reflectance(l, n.dot(wo));
+            let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
+            let reflected = Ray { origin: p, dir };
+            return f * self.trace(l, &reflected, 0.0, depth + 1, f, st);
+        }
+        let k = self.settings.light_samples.max(1);
+        let mut sum = L::C::splat(0.0);
+        for _ in 0..k {
+            sum = sum + self.prop_sample(l, p, n, wo, m, depth, bounces, st);
+        }
+        sum * (1.0 / k as f32)
+    }
+
+    /// One sample of each strategy at a prop point `p` (already offset) with normal `n`.
+    #[allow(clippy::too_many_arguments)]
+    fn prop_sample<L: Lanes>(
+        &self,
+        l: &L,
+        p: Vec3,
+        n: Vec3,
+        wo: Vec3,
+        m: &Material,
+        depth: u32,
+        bounces: u32,
+        st: &mut PathState,
+    ) -> L::C {
+        let lights = &self.scene.staging.lights;
+        let env = &self.scene.environment;
+        let nl = lights.len() as f32;
+        let mut sum = L::C::splat(0.0);
+        let nee = self.settings.next_event;
+        // Light sampling.
+        if nee && !lights.is_empty() {
+            let i = ((st.rng.next_f32() * nl) as usize).min(lights.len() - 1);
+            let u = (st.rng.next_f32(), st.rng.next_f32());
+            if let Some(s) = lights[i].sample(p, u) {
+                let cos = n.dot(s.dir);
+                if cos > 0.0 {
+                    let pdf = s.pdf / nl;
+                    let t_max = s.dist * (1.0 - 1e-4);
+                    if let Some(tr) = self.transmittance(l, p, s.dir, t_max, st) {
+                        let w = power(pdf, m.pdf(n, wo, s.dir));
+                        let le = l.emission(&lights[i]);
+                        sum = sum + m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf);
+                    }
+                }
+            }
+        }
+        // Environment sampling.
+        if let Some(es) = &self.env {
+            let (d, pdf) = es.sample((st.rng.next_f32(), st.rng.next_f32()));
+            let cos = n.dot(d);
+            if cos > 0.0
+                && let Some(tr) = self.transmittance(l, p, d, f32::INFINITY, st)
+            {
+                let w = power(pdf, m.pdf(n, wo, d));
+                let le = l.input(env.radiance(d));
+                sum = sum + m.eval(l, n, wo, d) * tr * le * (cos * w / pdf);
+            }
+        }
+        // Material sampling: emitters it meets, or one indirect bounce off another prop.
+        let u = (st.rng.next_f32(), st.rng.next_f32(), st.rng.next_f32());
+        let Some(wi) = m.sample(n, wo, u) else {
+            return sum;
+        };
+        let pdf = m.pdf(n, wo, wi);
+        if pdf <= 0.0 {
+            return sum;
+        }
+        let ray = Ray { origin: p, dir: wi };
+        let props = &self.scene.staging.props;
+        st.rays += 1;
+        let prop = if props.is_empty() {
+            None
+        } else {
+            props.intersect(&ray, 0.0, f32::INFINITY)
+        };
+        let t_prop = prop.as_ref().map_or(f32::INFINITY, |h| h.t);
+        let light = if lights.is_empty() {
+            None
+        } else {
+            nearest(lights, &ray, 0.0, t_prop)
+        };
+        let t_end = light.map_or(t_prop, |x| x.1);
+        let Some(tr) = self.film_transmittance(l, &ray, t_end, st) else {
+            return sum;
+        };
+        let incoming = match (light, prop) {
+            (Some((i, t, front)), _) => {
+                let w = if nee {
+                    power(pdf, lights[i].pdf(p, wi, t) / nl)
+                } else {
+                    1.0
+                };
+                emitted(l, &lights[i], front) * w
+            }
+            (None, Some(h)) if bounces > 0 => {
+                self.shade_prop(l, &ray, &h, depth + 1, bounces - 1, st)
+            }
+            (None, Some(_)) => L::C::splat(0.0),
+            (None, None) => {
+                let w = self.env.as_ref().map_or(1.0, |es| power(pdf, es.pdf(wi)));
+                l.input(env.radiance(wi)) * w
+            }
+        };
+        sum + m.eval(l, n, wo, wi) * tr * incoming * (n.dot(wi) / pdf)
+    }
+
+    /// What passes from `p` along `dir` up to `t_max`: `None` if a prop or light blocks it,
+    /// else the product of the crossed films' transmittances.
+    fn transmittance<L: Lanes>(
+        &self,
+        l: &L,
+        p: Vec3,
+        dir: Vec3,
+        t_max: f32,
+        st: &mut PathState,
+    ) -> Option<L::C> {
+        let ray = Ray { origin: p, dir };
+        let staging = &self.scene.staging;
+        st.rays += 1;
+        if staging.props.occluded(&ray, 0.0, t_max)
+            || nearest(&staging.lights, &ray, 0.0, t_max).is_some()
+        {
+            return None;
+        }
+        self.film_transmittance(l, &ray, t_max, st)
+    }
+
+    /// Product of `T = 1 − R` over the film crossings along `ray` before `t_max`; `None` once
+    /// it falls below the branch threshold.
+    fn film_transmittance<L: Lanes>(
+        &self,
+        l: &L,
+        ray: &Ray,
+        t_max: f32,
+        st: &mut PathState,
+    ) -> Option<L::C> {
+        let mut tr = L::C::splat(1.0);
+        let mut t = 0.0;
+        for _ in 0..self.settings.max_depth {
+            st.rays += 1;
+            match self.scene.geometry.intersect(ray, t, t_max) {
+                None => return Some(tr),
+                Some(h) => {
+                    let cos = ray.dir.dot(h.normal).abs().min(1.0);
+                    tr = tr * (L::C::splat(1.0) - l.film_reflectance(cos, h.thickness_nm));
+                    if tr.max_channel() < self.settings.min_weight {
+                        return None;
+                    }
+                    t = h.t_exit + self.scene.epsilon;
+                }
+            }
+        }
+        Some(tr)
+    }
+}
