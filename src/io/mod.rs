@@ -43,7 +43,7 @@ mod write_ply;
 mod xml;
 
 pub use obj::read_mesh;
-pub use write_ply::write_ply;
+pub use write_ply::{write_mesh_ply, write_ply};
 
 use std::io::Read;
 use std::path::Path;
