@@ -1,7 +1,7 @@
 //! The comparison figure: two renders side by side with labels, and their per-pixel colour
 //! difference as a viridis heat map with a colour bar.
 
-use crate::image::{Anchor, RgbImage, draw_text, viridis};
+use crate::image::{Anchor, RgbImage, draw_text, text_width, viridis};
 
 use super::add_colour_bar;
 
@@ -48,13 +48,16 @@ pub fn side_by_side(
     blit(&mut out, &heat, xs[2]);
     let ink = [0.85; 3];
     let y = 0.5 * strip as f32;
-    for (x, text) in xs.iter().zip([labels[0], labels[1], heat_title]) {
+    let room = [w, w, heat.width].map(|r| r as f32 - 0.6 * size);
+    for ((x, text), room) in xs.iter().zip([labels[0], labels[1], heat_title]).zip(room) {
+        // Shrink a label that would run into the next panel (down to 6 px, then clipped).
+        let fit = size * (room / text_width(text, size)).min(1.0);
         draw_text(
             &mut out,
             *x as f32 + 0.3 * size,
             y,
             text,
-            size,
+            fit.max(6.0),
             ink,
             Anchor::MIDDLE_LEFT,
         );
