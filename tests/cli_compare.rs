@@ -269,3 +269,27 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
     let (code, _, err) = filmsplat(&["compare", "disk", "mls", &cloud, "--size", "32x24", "-o", o]);
     assert!(code == 0 || err.contains("'mls' is not available"), "{err}");
 }
+
+/// Only with `--features reconstruct` (CI does not build it): the cloud meshed in-process.
+#[cfg(feature = "reconstruct")]
+#[test]
+fn a_reconstructed_mesh_is_compared_and_its_shell_flagged() {
+    let (cloud, _) = bubble_and_mesh("recon");
+    let png = tmp("recon.png");
+    let args = [
+        "compare",
+        "disk",
+        "reconstructed",
+        &cloud,
+        "--size",
+        "48x32",
+        "-o",
+        png.to_str().unwrap(),
+    ];
+    let (code, out, err) = filmsplat(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("thin closed shell"), "{out}");
+    let v = json(&args);
+    assert!(v["b"]["meshing_s"].as_f64().unwrap() > 0.0);
+    assert!(v["b"]["elements"].as_u64().unwrap() > 1000);
+}

@@ -12,8 +12,9 @@ use std::path::PathBuf;
 enum SampleName {
     /// A soap bubble: a sphere of particles with a draining, swirling thickness field.
     Bubble,
-    /// The bubble's analytic surface as a triangle mesh (subdivided icosahedron, radius 1,
-    /// outward normals, no thickness), to compare against with `compare ... mesh:FILE`.
+    /// The bubble's analytic surface as a triangle mesh (subdivided icosahedron about the
+    /// origin, radius --radius, outward normals, no thickness), to compare against with
+    /// `compare ... mesh:FILE`.
     BubbleMesh,
 }
 
@@ -31,6 +32,9 @@ pub struct SampleArgs {
     /// Seed of the particle jitter.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Radius of bubble-mesh, scene units (the bubble sample's is 1).
+    #[arg(long, default_value_t = 1.0)]
+    radius: f32,
     /// Subdivisions of the icosahedron for bubble-mesh (20·4^N triangles, 0..=9).
     #[arg(long, default_value_t = 5)]
     subdivisions: u32,
@@ -64,7 +68,13 @@ pub fn run(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
                     a.subdivisions
                 )));
             }
-            let mesh = icosphere(BubbleParams::default().radius, a.subdivisions);
+            if !(a.radius > 0.0 && a.radius.is_finite()) {
+                return Err(Error::invalid(format!(
+                    "sample: --radius must be > 0, got {}",
+                    a.radius
+                )));
+            }
+            let mesh = icosphere(a.radius, a.subdivisions);
             write_mesh_ply(&a.output, &mesh)?;
             let _ = writeln!(
                 out,

@@ -284,14 +284,22 @@ fn mesh_into(
     Ok(())
 }
 
-/// Reconstructs a mesh around the scene's cloud; returns it with the time the meshing took.
-/// This build has no in-process reconstruction (see the README: splashsurf_lib was not
-/// added), so it explains how to compare with a mesh made elsewhere.
+/// Reconstructs a mesh around the scene's cloud (cargo feature `reconstruct`); returns it with
+/// the time the meshing took.
+#[cfg(not(feature = "reconstruct"))]
 fn reconstruct(_desc: &SceneDesc, _base: &Path) -> Result<(TriangleMesh, Duration)> {
     Err(Error::invalid(
-        "geometry 'reconstructed' is not available in this build (no in-process surface \
-         reconstruction); mesh the cloud elsewhere (e.g. splashsurf) and use mesh:FILE",
+        "geometry 'reconstructed' needs filmsplat built with `--features reconstruct`; \
+         or mesh the cloud elsewhere (e.g. splashsurf) and use mesh:FILE",
     ))
+}
+
+#[cfg(feature = "reconstruct")]
+fn reconstruct(desc: &SceneDesc, base: &Path) -> Result<(TriangleMesh, Duration)> {
+    let cloud = load_cloud(desc, base)?;
+    let t = Instant::now();
+    let m = super::reconstruct::reconstruct(&cloud)?;
+    Ok((m, t.elapsed()))
 }
 
 /// The picture as displayed: exposure and tone curve applied, linear RGB in `[0, 1]` (what the

@@ -11,6 +11,8 @@
 //! ```
 
 pub mod compare;
+#[cfg(feature = "reconstruct")]
+pub mod reconstruct;
 
 use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
