@@ -196,11 +196,10 @@ impl MeshGeometry {
             .normalize_or(Vec3::Z);
         let mut normal = Vec3::ZERO;
         let mut thickness = 0.0;
-        for k in 0..3 {
-            let v = p.idx[k] as usize;
-            let n = self.normals[v];
-            normal += w[k] * if n == Vec3::ZERO { geometric } else { n };
-            thickness += w[k] * self.thickness[v];
+        for (&v, &wk) in p.idx.iter().zip(&w) {
+            let n = self.normals[v as usize];
+            normal += wk * if n == Vec3::ZERO { geometric } else { n };
+            thickness += wk * self.thickness[v as usize];
         }
         let normal = normal.normalize_or(geometric);
         let t_exit = match self.sides {
@@ -239,7 +238,7 @@ impl MeshGeometry {
         let b = self.bounds();
         let diag = (b.max - b.min).length();
         let n = self.normals.len();
-        if n == 0 || !(diag > 0.0) {
+        if n == 0 || diag.is_nan() || diag <= 0.0 {
             return None;
         }
         let limit = 0.05 * diag;
