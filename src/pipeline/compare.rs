@@ -336,3 +336,60 @@ pub fn metrics(a: &RgbImage, b: &RgbImage) -> Result<Metrics> {
         delta_e_map: delta_e_map(a, b)?,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::linear_to_srgb;
+    use crate::image::metrics::{delta_e2000, linear_srgb_to_lab};
+
+    #[test]
+    fn choices_and_shell_options_parse() {
+        assert_eq!(
+            "Disk".parse::<GeometryChoice>().unwrap(),
+            GeometryChoice::Disk
+        );
+        assert_eq!(
+            "mesh:a/b.obj".parse::<GeometryChoice>().unwrap(),
+            GeometryChoice::Mesh("a/b.obj".into())
+        );
+        assert_eq!(
+            GeometryChoice::Mesh("a/b.obj".into()).to_string(),
+            "mesh b.obj"
+        );
+        assert!("mesh:".parse::<GeometryChoice>().is_err());
+        assert!("cube".parse::<GeometryChoice>().is_err());
+        assert_eq!(
+            "merge:0.5".parse::<ShellOption>().unwrap(),
+            ShellOption::Merge(Some(0.5))
+        );
+        for bad in ["merge:-1", "merge:x", "both"] {
+            assert!(bad.parse::<ShellOption>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn a_uniform_shift_gives_the_analytic_metrics() {
+        // Two flat grey pictures: every sRGB value differs by δ, so PSNR = −20 log10 δ; SSIM
+        // reduces to its luminance term (2 μa μb + C1) / (μa² + μb² + C1); ΔE is the pair's.
+        let (x, y) = (0.2f32, 0.25f32);
+        let a = RgbImage::filled(32, 24, [x; 3]);
+        let b = RgbImage::filled(32, 24, [y; 3]);
+        let m = metrics(&a, &b).unwrap();
+        let (ea, eb) = (linear_to_srgb(x) as f64, linear_to_srgb(y) as f64);
+        let want_psnr = -20.0 * (eb - ea).abs().log10();
+        assert!(
+            (m.psnr_db - want_psnr).abs() < 1e-4,
+            "{} {want_psnr}",
+            m.psnr_db
+        );
+        let c1 = 0.01f64.powi(2);
+        let want_ssim = (2.0 * ea * eb + c1) / (ea * ea + eb * eb + c1);
+        assert!((m.ssim - want_ssim).abs() < 1e-6, "{} {want_ssim}", m.ssim);
+        let de = delta_e2000(linear_srgb_to_lab([x; 3]), linear_srgb_to_lab([y; 3]));
+        assert!((m.delta_e.mean - de).abs() < 1e-4 && (m.delta_e.p95 - de).abs() < 1e-4);
+        assert!(m.delta_e_map.iter().all(|&v| (v as f64 - de).abs() < 1e-4));
+        let same = metrics(&a, &a).unwrap();
+        assert!(same.psnr_db.is_infinite() && same.ssim == 1.0 && same.delta_e.max == 0.0);
+    }
+}
