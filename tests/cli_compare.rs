@@ -167,19 +167,22 @@ fn thin_shells_are_flagged_and_merging_brings_them_back_to_one_film() {
         "-o",
         png.to_str().unwrap(),
     ];
-    let (code, out, err) = filmsplat(&args);
-    assert_eq!(code, 0, "{err}");
+    // With --json, notes and warnings go to stderr and stdout stays JSON.
+    let run = |extra: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend(extra);
+        all.push("--json");
+        let (code, out, err) = filmsplat(&all);
+        assert_eq!(code, 0, "{err}");
+        (serde_json::from_str::<Value>(out.trim()).unwrap(), err)
+    };
+    let (all, err) = run(&[]);
     assert!(
-        out.contains("warning:") && out.contains("thin closed shell"),
-        "{out}"
+        err.contains("warning:") && err.contains("thin closed shell"),
+        "{err}"
     );
-    let all = json(&args);
-    let mut merge_args = args.to_vec();
-    merge_args.extend(["--shell", "merge"]);
-    let (code, out, _) = filmsplat(&merge_args);
-    assert_eq!(code, 0);
-    assert!(out.contains("merging hits within"), "{out}");
-    let merged = json(&merge_args);
+    let (merged, err) = run(&["--shell", "merge"]);
+    assert!(err.contains("merging hits within"), "{err}");
     let de = |v: &Value| v["delta_e"]["mean"].as_f64().unwrap();
     assert!(de(&merged) < 0.7 * de(&all), "merged {merged} all {all}");
 }
