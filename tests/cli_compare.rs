@@ -223,6 +223,15 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
     let (cloud, mesh) = bubble_and_mesh("bad");
     let broken = tmp("broken.obj");
     std::fs::write(&broken, "v 0 0 0\nf 1 2 3\n").unwrap();
+    let empty = tmp("empty.ply");
+    std::fs::write(
+        &empty,
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+         property float z\nelement face 0\nproperty list uchar int vertex_indices\n\
+         end_header\n0 0 0\n",
+    )
+    .unwrap();
+    let e = format!("mesh:{}", empty.display());
     let out = tmp("never.png");
     let o = out.to_str().unwrap();
     let m = format!("mesh:{mesh}");
@@ -233,6 +242,10 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         (vec!["disk", "mesh:/no/such.ply", &cloud], "/no/such.ply"),
         (vec!["disk", &b, &cloud], "broken.obj: OBJ: line 2"),
         (vec!["disk", "reconstructed", &cloud], "reconstructed"),
+        (
+            vec!["disk", &e, &cloud],
+            "empty.ply: the mesh has no triangles",
+        ),
         (vec!["disk", &m, &cloud, "--shell", "twice"], "--shell"),
         (
             vec!["disk", &m, &cloud, "--transfer", "kernel:0"],

@@ -216,6 +216,11 @@ fn mesh_into(
         vertices,
         triangles,
     } = mesh;
+    if triangles.is_empty() {
+        return Err(Error::invalid(format!(
+            "{label}: the mesh has no triangles"
+        )));
+    }
     let thickness = match vertices.thickness_nm {
         Some(mut t) => {
             t.iter_mut().for_each(|v| *v *= scale);
