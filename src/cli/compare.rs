@@ -355,7 +355,7 @@ fn report(
                 line += &format!(", meshing {:.3} s", m.as_secs_f64());
             }
             if let Some(m) = s.mesh {
-                line += &format!(", mesh read + thickness {:.3} s", m.as_secs_f64());
+                line += &format!(", mesh prep {:.3} s", m.as_secs_f64());
             }
             line += &format!(", render {:.3} s", s.render.as_secs_f64());
             let _ = writeln!(out, "{line}");

@@ -158,7 +158,8 @@ pub fn prepare_variant(
             (None, Some(t.elapsed()))
         }
         GeometryChoice::Reconstructed => {
-            let (m, meshing) = reconstruct(desc, base)?;
+            let (m, meshing, note) = reconstruct(desc, base)?;
+            prepared.notes.push(note);
             let t = Instant::now();
             mesh_into(&mut prepared, desc, base, m, mesh, "reconstructed mesh")?;
             (Some(meshing), Some(t.elapsed()))
@@ -290,9 +291,9 @@ fn mesh_into(
 }
 
 /// Reconstructs a mesh around the scene's cloud (cargo feature `reconstruct`); returns it with
-/// the time the meshing took.
+/// the time the meshing took and a note on the parameters.
 #[cfg(not(feature = "reconstruct"))]
-fn reconstruct(_desc: &SceneDesc, _base: &Path) -> Result<(TriangleMesh, Duration)> {
+fn reconstruct(_desc: &SceneDesc, _base: &Path) -> Result<(TriangleMesh, Duration, String)> {
     Err(Error::invalid(
         "geometry 'reconstructed' needs filmsplat built with `--features reconstruct`; \
          or mesh the cloud elsewhere (e.g. splashsurf) and use mesh:FILE",
@@ -300,11 +301,11 @@ fn reconstruct(_desc: &SceneDesc, _base: &Path) -> Result<(TriangleMesh, Duratio
 }
 
 #[cfg(feature = "reconstruct")]
-fn reconstruct(desc: &SceneDesc, base: &Path) -> Result<(TriangleMesh, Duration)> {
+fn reconstruct(desc: &SceneDesc, base: &Path) -> Result<(TriangleMesh, Duration, String)> {
     let cloud = load_cloud(desc, base)?;
     let t = Instant::now();
-    let m = super::reconstruct::reconstruct(&cloud)?;
-    Ok((m, t.elapsed()))
+    let (m, note) = super::reconstruct::reconstruct(&cloud)?;
+    Ok((m, t.elapsed(), note))
 }
 
 /// The picture as displayed: exposure and tone curve applied, linear RGB in `[0, 1]` (what the
