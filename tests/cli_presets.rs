@@ -14,7 +14,14 @@ fn summary(extra: &[&str]) -> (i32, String, String) {
     .unwrap();
     let out = tmp("preset.png");
     let scene = scene.to_str().unwrap();
-    let mut args = vec!["render", scene, "-o", out.to_str().unwrap(), "--size", "32x24"];
+    let mut args = vec![
+        "render",
+        scene,
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "32x24",
+    ];
     args.extend(extra);
     filmsplat(&args)
 }
@@ -34,5 +41,8 @@ fn presets_set_samples_and_flags_override_them() {
     }
     let (code, _, err) = summary(&["--preset", "fast"]);
     assert_eq!(code, 2);
-    assert!(err.contains("unknown preset 'fast'") && err.lines().count() == 1, "{err}");
+    assert!(
+        err.contains("unknown preset 'fast'") && err.lines().count() == 1,
+        "{err}"
+    );
 }

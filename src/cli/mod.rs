@@ -3,6 +3,7 @@
 
 mod attributes;
 mod chart;
+mod compare;
 mod convert;
 mod film;
 mod info;
@@ -37,6 +38,9 @@ enum Command {
     Sample(sample::SampleArgs),
     /// Convert any particle file filmsplat reads to binary PLY.
     Convert(convert::ConvertArgs),
+    /// Render one scene with two geometries (disk, sphere, mls, mesh:FILE, reconstructed):
+    /// a side-by-side PNG with a ΔE heat map, timings, PSNR, SSIM and CIEDE2000.
+    Compare(Box<compare::CompareArgs>),
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
@@ -65,6 +69,7 @@ where
         Command::Info(a) => info::run(&a, out),
         Command::Sample(a) => sample::run(&a, out),
         Command::Convert(a) => convert::run(&a, out),
+        Command::Compare(a) => compare::run(&a, out),
     }
 }
 

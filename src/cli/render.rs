@@ -16,154 +16,154 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// A particle file (.ply, .vtk, .vtu, .bgeo[.gz], .csv/.xyz), a frame folder of the
     /// thin-film SPH code (x_bin, norm_bin, rh_bin, ...), or a scene file (.toml).
-    input: PathBuf,
+    pub(super) input: PathBuf,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
     /// hit-count layers). Default: the scene file's output.path, else render.png.
     #[arg(short, long)]
-    output: Option<PathBuf>,
+    pub(super) output: Option<PathBuf>,
     /// Also write the linear EXR with all layers to this path.
     #[arg(long)]
-    exr: Option<PathBuf>,
+    pub(super) exr: Option<PathBuf>,
     /// How particles are drawn: disk (oriented splats, blended into one film) or sphere.
     #[arg(long)]
-    primitive: Option<String>,
+    pub(super) primitive: Option<String>,
     /// Settings preset: preview (1 spp, 4 crossings), balanced (the default: 4 spp, 12
     /// crossings) or final (16 spp, 16 crossings), points on the measured speed/accuracy front.
     /// Given here it replaces the scene file's spp, max_depth, min_weight, shading and
     /// wavelengths; the flags for those still override it.
     #[arg(long)]
-    preset: Option<String>,
+    pub(super) preset: Option<String>,
     /// Camera samples per pixel.
     #[arg(long)]
-    spp: Option<u32>,
+    pub(super) spp: Option<u32>,
     /// Image size WIDTHxHEIGHT in pixels (default 960x540).
     #[arg(long, value_parser = super::parse::size)]
-    size: Option<(usize, usize)>,
+    pub(super) size: Option<(usize, usize)>,
     /// Random seed; the same seed gives the same image.
     #[arg(long)]
-    seed: Option<u64>,
+    pub(super) seed: Option<u64>,
     /// Film shading: lut (precomputed colour table, fastest), rgb (per-hit spectral
     /// integration over --wavelengths wavelengths) or spectral (full spectral transport, the
     /// reference; at most 16 wavelengths).
     #[arg(long)]
-    shading: Option<String>,
+    pub(super) shading: Option<String>,
     /// Wavelengths per camera sample for --shading rgb (1..64).
     #[arg(long)]
-    wavelengths: Option<usize>,
+    pub(super) wavelengths: Option<usize>,
     /// Wavelength sampling for --shading rgb: jittered, stratified or hero.
     #[arg(long)]
-    strategy: Option<String>,
+    pub(super) strategy: Option<String>,
     /// Most film crossings along one path.
     #[arg(long)]
-    max_depth: Option<u32>,
+    pub(super) max_depth: Option<u32>,
     /// Film index of refraction (default 1.33).
     #[arg(long)]
-    ior: Option<f32>,
+    pub(super) ior: Option<f32>,
     /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
     /// the thin-film SPH code's frame folders, nm otherwise).
     #[arg(long)]
-    thickness_unit: Option<String>,
+    pub(super) thickness_unit: Option<String>,
     /// Extra factor on thickness after the unit conversion.
     #[arg(long)]
-    thickness_scale: Option<f32>,
+    pub(super) thickness_scale: Option<f32>,
     /// Name of the thickness attribute (default: the first of the aliases below).
     #[arg(long)]
-    thickness_attr: Option<String>,
+    pub(super) thickness_attr: Option<String>,
     /// Prefix of the normal attributes (n for nx ny nz, normal for normal_x ..., N).
     #[arg(long)]
-    normal_attr: Option<String>,
+    pub(super) normal_attr: Option<String>,
     /// Name of the radius attribute.
     #[arg(long)]
-    radius_attr: Option<String>,
+    pub(super) radius_attr: Option<String>,
     /// Thickness in nm for clouds without one (default 500).
     #[arg(long)]
-    default_thickness: Option<f32>,
+    pub(super) default_thickness: Option<f32>,
     /// Factor on all splat radii (estimated from spacing or read from the file).
     #[arg(long)]
-    radius_scale: Option<f32>,
+    pub(super) radius_scale: Option<f32>,
     /// Do not blend overlapping disks into one film crossing (for comparison: the film is then
     /// applied once per disk and colours jump at splat rims).
     #[arg(long)]
-    no_blend: bool,
+    pub(super) no_blend: bool,
     /// Flat disks: skip the curvature estimate that tilts each disk's normal with the film's
     /// curvature (faster set-up; curved films then show faceted reflections).
     #[arg(long)]
-    flat_splats: bool,
+    pub(super) flat_splats: bool,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
     #[arg(long)]
-    env: Option<String>,
+    pub(super) env: Option<String>,
     /// Rotation of an environment map about +y, degrees.
     #[arg(long)]
-    env_rotation: Option<f32>,
+    pub(super) env_rotation: Option<f32>,
     /// Multiplier on the environment's radiance.
     #[arg(long)]
-    env_intensity: Option<f32>,
+    pub(super) env_intensity: Option<f32>,
     /// Camera position x,y,z (scene units); default: auto-framing.
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
-    camera: Option<[f32; 3]>,
+    pub(super) camera: Option<[f32; 3]>,
     /// Point the camera looks at, x,y,z (default: the cloud's centre).
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
-    look_at: Option<[f32; 3]>,
+    pub(super) look_at: Option<[f32; 3]>,
     /// Vertical field of view, degrees.
     #[arg(long)]
-    fov: Option<f32>,
+    pub(super) fov: Option<f32>,
     /// Exposure, EV (stops).
     #[arg(long, allow_hyphen_values = true)]
-    exposure: Option<f32>,
+    pub(super) exposure: Option<f32>,
     /// Light samples per prop hit (each: a light point, an environment direction and a
     /// material direction, combined by multiple importance sampling).
     #[arg(long)]
-    light_samples: Option<u32>,
+    pub(super) light_samples: Option<u32>,
     /// Thin-lens aperture radius, scene units (0: pinhole, everything sharp).
     #[arg(long)]
-    aperture: Option<f32>,
+    pub(super) aperture: Option<f32>,
     /// Distance in focus, scene units (default: the distance to the look-at point).
     #[arg(long)]
-    focus_distance: Option<f32>,
+    pub(super) focus_distance: Option<f32>,
     /// White balance: neutralise light of this colour temperature, kelvin (1667..25000).
     #[arg(long)]
-    white_balance: Option<f32>,
+    pub(super) white_balance: Option<f32>,
     /// Contrast around middle grey (1 = unchanged).
     #[arg(long)]
-    contrast: Option<f32>,
+    pub(super) contrast: Option<f32>,
     /// Saturation (1 = unchanged, 0 = grey).
     #[arg(long)]
-    saturation: Option<f32>,
+    pub(super) saturation: Option<f32>,
     /// Tone curve for PNG: filmic or clamp.
     #[arg(long)]
-    tonemap: Option<String>,
+    pub(super) tonemap: Option<String>,
     /// What to show: shaded (the thin-film render), or a scientific view of the first film
     /// crossing: thickness (false colour with a colour bar, nm), normal, depth, particle-id,
     /// coverage (splats blended per pixel: shows sparse regions and holes).
     #[arg(long)]
-    view: Option<String>,
+    pub(super) view: Option<String>,
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii (says how many), instead of refusing the file.
     #[arg(long)]
-    repair: bool,
+    pub(super) repair: bool,
     /// Render a sequence: frame numbers A..B (B excluded) or A..=B. The input (or the scene's
     /// input.cloud) and the output contain a frame pattern, {} or {:04} (zero-padded), e.g.
     /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`. Each frame's seed
     /// is the seed plus the frame number.
     #[arg(long, value_parser = super::sequence::frame_list)]
-    frames: Option<sequence::FrameList>,
+    pub(super) frames: Option<sequence::FrameList>,
     /// Render only every N-th frame of --frames, starting at the K-th (K/N, 0 <= K < N), so N
     /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
     #[arg(long, value_parser = super::sequence::shard)]
-    shard: Option<(u64, u64)>,
+    pub(super) shard: Option<(u64, u64)>,
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
-    frame: Option<u64>,
+    pub(super) frame: Option<u64>,
     /// Skip frames whose output file already exists.
     #[arg(long)]
-    resume: bool,
+    pub(super) resume: bool,
     /// Report a frame that fails and go on with the others (exit code 2 at the end if any
     /// failed), instead of stopping at the first.
     #[arg(long)]
-    keep_going: bool,
+    pub(super) keep_going: bool,
     /// No progress bar or summary.
     #[arg(short, long)]
-    quiet: bool,
+    pub(super) quiet: bool,
 }
 
 fn attribute_help() -> String {
@@ -178,7 +178,7 @@ fn attribute_help() -> String {
 
 /// The scene description: from the TOML file, or a default one around a particle file; then the
 /// flags on top. Returns it with the folder its paths are relative to.
-fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
+pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     let is_toml = a
         .input
         .extension()

@@ -2,6 +2,8 @@
 
 pub mod chart;
 pub mod colour_bar;
+pub mod compare;
 
 pub use chart::{ChartParams, interference_chart};
 pub use colour_bar::add_colour_bar;
+pub use compare::side_by_side;

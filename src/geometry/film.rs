@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use super::{Aabb, Ray, SplatGeometry, SurfaceHit};
+use super::{Aabb, MeshGeometry, Ray, SplatGeometry, SurfaceHit};
 
 /// The films of a scene. A closed set of geometries dispatched by `match` (no virtual calls).
 /// Every variant answers the same three questions: the first crossing along a ray, whether there
@@ -12,6 +12,8 @@ use super::{Aabb, Ray, SplatGeometry, SurfaceHit};
 pub enum FilmGeometry {
     /// Particles drawn as blended disks or as spheres.
     Splats(SplatGeometry),
+    /// A triangle mesh (e.g. a meshed pipeline's surface), smooth-shaded.
+    Mesh(MeshGeometry),
 }
 
 impl FilmGeometry {
@@ -21,6 +23,7 @@ impl FilmGeometry {
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         match self {
             FilmGeometry::Splats(g) => g.intersect(ray, t_min, t_max),
+            FilmGeometry::Mesh(g) => g.intersect(ray, t_min, t_max),
         }
     }
 
@@ -29,6 +32,7 @@ impl FilmGeometry {
     pub fn intersect_any(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         match self {
             FilmGeometry::Splats(g) => g.intersect_any(ray, t_min, t_max),
+            FilmGeometry::Mesh(g) => g.intersect_any(ray, t_min, t_max),
         }
     }
 
@@ -36,13 +40,15 @@ impl FilmGeometry {
     pub fn bounds(&self) -> Aabb {
         match self {
             FilmGeometry::Splats(g) => g.bounds(),
+            FilmGeometry::Mesh(g) => g.bounds(),
         }
     }
 
-    /// Number of elements (particles) the geometry was built from.
+    /// Number of elements (particles, triangles) the geometry was built from.
     pub fn len(&self) -> usize {
         match self {
             FilmGeometry::Splats(g) => g.len(),
+            FilmGeometry::Mesh(g) => g.len(),
         }
     }
 
@@ -55,6 +61,7 @@ impl FilmGeometry {
     pub fn memory_bytes(&self) -> usize {
         match self {
             FilmGeometry::Splats(g) => g.memory_bytes(),
+            FilmGeometry::Mesh(g) => g.memory_bytes(),
         }
     }
 }
@@ -64,6 +71,7 @@ impl fmt::Display for FilmGeometry {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             FilmGeometry::Splats(g) => write!(f, "{}", g.primitive()),
+            FilmGeometry::Mesh(_) => f.write_str("mesh"),
         }
     }
 }
@@ -71,5 +79,11 @@ impl fmt::Display for FilmGeometry {
 impl From<SplatGeometry> for FilmGeometry {
     fn from(g: SplatGeometry) -> Self {
         FilmGeometry::Splats(g)
+    }
+}
+
+impl From<MeshGeometry> for FilmGeometry {
+    fn from(g: MeshGeometry) -> Self {
+        FilmGeometry::Mesh(g)
     }
 }

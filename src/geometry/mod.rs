@@ -8,6 +8,7 @@
 //! * [`primitives`]: ray–disk and ray–sphere tests and primitive bounds.
 //! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
 //! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
+//! * [`MeshGeometry`]: a triangle mesh drawn as a film (for comparisons with meshed renders).
 //! * [`FilmGeometry`]: the closed set of film geometries the renderer goes through.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
 //! * [`props`]: opaque staging shapes (plane, sphere, box, cylinder, torus).
@@ -18,6 +19,7 @@ mod bvh;
 mod bvh_build;
 mod disk4;
 mod film;
+pub mod mesh;
 pub mod primitives;
 pub mod props;
 mod query;
@@ -33,6 +35,7 @@ pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{Bvh, BvhNode, BvhParams};
 pub use film::FilmGeometry;
+pub use mesh::{MeshGeometry, MeshSides};
 pub use props::{Mesh, PropHit, Props, Shape};
 pub use splat::{SplatGeometry, SurfaceHit};
 

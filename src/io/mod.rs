@@ -21,6 +21,10 @@
 //! [`ReadOptions`] names them explicitly (then a missing name is an error). Every other
 //! scalar attribute lands in [`PointCloud::extra`] as f32. Readers do not validate values.
 //!
+//! Triangle meshes (for comparing with meshed renders) are read by [`read_mesh`]: PLY with a
+//! `face` element ([`ply::read_mesh`]; vertex attributes by the same aliases) or OBJ
+//! ([`obj::read`]).
+//!
 //! Every reader checks counts against the file size before allocating and returns
 //! [`Error::Format`] naming the file, the format and the problem (with the line or byte offset
 //! where it applies); none panics on malformed input.
@@ -38,7 +42,8 @@ pub mod vtu;
 mod write_ply;
 mod xml;
 
-pub use write_ply::write_ply;
+pub use obj::read_mesh;
+pub use write_ply::{write_mesh_ply, write_ply};
 
 use std::io::Read;
 use std::path::Path;

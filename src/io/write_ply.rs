@@ -1,7 +1,8 @@
-//! Writing particle clouds as binary little-endian PLY (what `filmsplat sample` writes).
+//! Writing particle clouds (and triangle meshes) as binary little-endian PLY (what
+//! `filmsplat sample` writes).
 
 use crate::error::{Error, Result};
-use crate::pointcloud::PointCloud;
+use crate::pointcloud::{PointCloud, TriangleMesh};
 use std::io::Write;
 use std::path::Path;
 
@@ -9,6 +10,16 @@ use std::path::Path;
 /// (thickness in nm) and `radius` when present, then every extra attribute, all `float`.
 /// Written to a temporary file and renamed, so a failure never leaves a partial file.
 pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
+    write_with_faces(path, cloud, &[])
+}
+
+/// Writes `mesh` to `path` as binary little-endian PLY: its vertices as [`write_ply`] writes a
+/// cloud, then element `face` with `property list uchar int vertex_indices`. Atomic.
+pub fn write_mesh_ply(path: &Path, mesh: &TriangleMesh) -> Result<()> {
+    write_with_faces(path, &mesh.vertices, &mesh.triangles)
+}
+
+fn write_with_faces(path: &Path, cloud: &PointCloud, faces: &[[u32; 3]]) -> Result<()> {
     let mut columns: Vec<(&str, &[f32])> = Vec::new();
     let n = cloud.len();
     let mut header = format!(
@@ -38,6 +49,12 @@ pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
         }
         header.push_str(&format!("property float {name}\n"));
     }
+    if !faces.is_empty() {
+        header.push_str(&format!(
+            "element face {}\nproperty list uchar int vertex_indices\n",
+            faces.len()
+        ));
+    }
     header.push_str("end_header\n");
     let stride = 3 + if cloud.normals.is_some() { 3 } else { 0 } + columns.len();
     let mut body = Vec::with_capacity(header.len() + n * stride * 4);
@@ -52,6 +69,12 @@ pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
         }
         for (_, v) in &columns {
             put(v[i]);
+        }
+    }
+    for f in faces {
+        body.push(3);
+        for &v in f {
+            body.extend_from_slice(&(v as i32).to_le_bytes());
         }
     }
     crate::atomic::write_atomic(path, |w| w.write_all(&body).map_err(|e| Error::io(path, e)))

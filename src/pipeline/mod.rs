@@ -10,6 +10,9 @@
 //! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
 //! ```
 
+pub mod compare;
+#[cfg(feature = "reconstruct")]
+pub mod reconstruct;
 mod studio;
 
 use crate::geometry::{LayerBlend, Primitive, SplatGeometry};

@@ -2,7 +2,7 @@
 //! line and the key.
 
 use crate::geometry::{Mesh, Props, Shape};
-use crate::io::obj::read_obj;
+use crate::io::{ReadOptions, read_mesh};
 use crate::render::{AreaLight, LightShape, Material, Staging};
 use crate::scene::{LightDesc, PropDesc, SceneDesc};
 use crate::spectrum::Blackbody;
@@ -208,19 +208,22 @@ fn prop(i: usize, p: &PropDesc, base: &Path) -> Result<(Shape, Material)> {
             let file = p
                 .file
                 .as_ref()
-                .ok_or_else(|| e("file = \"mesh.obj\" is required".into()))?;
+                .ok_or_else(|| e("file = \"mesh.obj\" (or a PLY mesh) is required".into()))?;
             let scale = p.scale.unwrap_or(1.0);
             if !(scale.is_finite() && scale > 0.0) {
                 return Err(e(format!("scale must be > 0, got {scale}")));
             }
-            let obj = read_obj(&base.join(file)).map_err(|x| e(x.to_string()))?;
-            let vertices: Vec<Vec3> = obj
+            // OBJ or PLY (faces), through the same readers as meshes compared with splats.
+            let mesh = read_mesh(&base.join(file), &ReadOptions::default())
+                .map_err(|x| e(x.to_string()))?;
+            let vertices: Vec<Vec3> = mesh
                 .vertices
+                .positions
                 .iter()
-                .map(|v| Vec3::from(*v) * scale + position)
+                .map(|v| *v * scale + position)
                 .collect();
             Shape::Mesh(Arc::new(
-                Mesh::new(&vertices, &obj.triangles).map_err(|x| e(x.to_string()))?,
+                Mesh::new(&vertices, &mesh.triangles).map_err(|x| e(x.to_string()))?,
             ))
         }
         other => {

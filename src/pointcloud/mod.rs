@@ -1,6 +1,7 @@
 //! The particle cloud: what every reader produces and every geometry consumes, plus its
 //! validation ([`mod@validate`]), estimation of missing attributes ([`estimate`]) and summary
-//! statistics ([`stats`]).
+//! statistics ([`stats`]), and triangle meshes whose vertices carry the same attributes
+//! ([`mesh`]).
 
 use glam::Vec3;
 
@@ -8,11 +9,13 @@ pub mod curvature;
 pub mod eigen;
 pub mod estimate;
 pub mod knn;
+pub mod mesh;
 pub mod orient;
 pub mod stats;
 pub mod validate;
 
 pub use estimate::{EstimateOptions, EstimateReport, fill_missing, fill_missing_keeping_table};
+pub use mesh::{Transfer, TriangleMesh, transfer_thickness};
 pub use stats::{CloudStats, compute_stats};
 pub use validate::{RepairReport, repair, validate};
 

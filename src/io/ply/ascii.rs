@@ -12,14 +12,15 @@ use super::{Fail, Outputs, Plan, record_name};
 /// Longest body line accepted, in bytes.
 const MAX_LINE: usize = 1 << 20;
 
-/// Skips the elements before `vertex` (index `vi`) and parses `vertex` into `out`.
+/// Skips the elements before `vertex` (index `vi`) and parses `vertex` into `out`. Returns the
+/// number of the last line read.
 pub(super) fn read<R: Read>(
     src: &mut Source<R>,
     header: &Header,
     vi: usize,
     plan: &Plan,
     out: &mut Outputs,
-) -> Result<(), Fail> {
+) -> Result<usize, Fail> {
     let mut line_no = header.lines;
     for e in header.elements[..vi].iter().filter(|e| !e.props.is_empty()) {
         for i in 0..e.count {
@@ -76,6 +77,81 @@ pub(super) fn read<R: Read>(
                 v.props.len()
             )));
         }
+    }
+    Ok(line_no)
+}
+
+/// Skips the elements after `vertex` up to `face` (index `fi`), then reads the polygons of the
+/// list property `li` of `face` into `faces` (fan-triangulated, indices checked against
+/// `vertices`). `line_no` is the last line read so far.
+pub(super) fn read_faces<R: Read>(
+    src: &mut Source<R>,
+    header: &Header,
+    (vi, fi, li): (usize, usize, usize),
+    mut line_no: usize,
+    faces: &mut super::Faces,
+) -> Result<(), Fail> {
+    for e in header.elements[vi + 1..fi]
+        .iter()
+        .filter(|e| !e.props.is_empty())
+    {
+        for i in 0..e.count {
+            record_line(src, &mut line_no, e, i)?;
+        }
+    }
+    let f = &header.elements[fi];
+    let mut poly: Vec<f64> = Vec::new();
+    for i in 0..f.count {
+        let line = record_line(src, &mut line_no, f, i)?;
+        let at = || format!("line {line_no}: {}", record_name(f, i));
+        let text = std::str::from_utf8(line)
+            .map_err(|_| Fail::msg(format!("{}: not text (binary data?)", at())))?;
+        let mut tokens = text.split_ascii_whitespace();
+        let mut next = |what: &str| -> Result<f64, Fail> {
+            let tok = tokens
+                .next()
+                .ok_or_else(|| Fail::msg(format!("{}: too few values (missing {what})", at())))?;
+            tok.parse::<f64>().map_err(|_| {
+                let shown = super::header::show(tok);
+                Fail::msg(format!("{}: '{shown}' is not a number", at()))
+            })
+        };
+        poly.clear();
+        for (pi, p) in f.props.iter().enumerate() {
+            match p.kind {
+                PropKind::Scalar(_) => {
+                    next(&p.name)?;
+                }
+                PropKind::List { .. } => {
+                    let n = next(&p.name)?;
+                    if n < 0.0 || n.fract() != 0.0 {
+                        return Err(Fail::msg(format!(
+                            "{}: list length {n} of '{}' is not a count",
+                            at(),
+                            super::header::show(&p.name)
+                        )));
+                    }
+                    let mut k = 0.0;
+                    while k < n {
+                        let x = next(&p.name)?;
+                        if pi == li {
+                            poly.push(x);
+                        }
+                        k += 1.0;
+                    }
+                }
+            }
+        }
+        if tokens.next().is_some() {
+            return Err(Fail::msg(format!(
+                "{}: more values than the header's {} properties",
+                at(),
+                f.props.len()
+            )));
+        }
+        faces
+            .push(&poly)
+            .map_err(|m| Fail::msg(format!("{}: {m}", at())))?;
     }
     Ok(())
 }

@@ -133,6 +133,51 @@ fn skip_element<R: Read, const BE: bool>(src: &mut Source<R>, e: &Element) -> Re
     Ok(())
 }
 
+/// Skips the elements after `vertex` up to `face` (index `fi`), then reads the polygons of the
+/// list property `li` of `face` into `faces` (fan-triangulated, indices checked).
+pub(super) fn read_faces<R: Read, const BE: bool>(
+    src: &mut Source<R>,
+    header: &Header,
+    (vi, fi, li): (usize, usize, usize),
+    faces: &mut super::Faces,
+) -> Result<(), Fail> {
+    for e in &header.elements[vi + 1..fi] {
+        skip_element::<R, BE>(src, e)?;
+    }
+    let f = &header.elements[fi];
+    let mut poly: Vec<f64> = Vec::new();
+    for i in 0..f.count {
+        for (pi, p) in f.props.iter().enumerate() {
+            match p.kind {
+                PropKind::Scalar(s) => {
+                    if !src.skip(s.size() as u64)? {
+                        return Err(truncated(f, i));
+                    }
+                }
+                PropKind::List { count, item } if pi == li => {
+                    let n = next_scalar::<R, BE>(src, count, f, i)?;
+                    if n < 0.0 {
+                        return Err(Fail::msg(format!(
+                            "negative list length {n} in {}",
+                            record_name(f, i)
+                        )));
+                    }
+                    poly.clear();
+                    // Each item is read from the file, so a huge count ends at end of file.
+                    for _ in 0..n as u64 {
+                        poly.push(next_scalar::<R, BE>(src, item, f, i)?);
+                    }
+                }
+                PropKind::List { count, item } => skip_list::<R, BE>(src, count, item, f, i)?,
+            }
+        }
+        faces
+            .push(&poly)
+            .map_err(|m| Fail::msg(format!("{}: {m}", record_name(f, i))))?;
+    }
+    Ok(())
+}
+
 /// Slow path: record by record (the element has list properties).
 fn read_records<R: Read, const BE: bool>(
     src: &mut Source<R>,

@@ -61,7 +61,7 @@ impl Scalar {
         }
     }
 
-    fn is_integer(self) -> bool {
+    pub(super) fn is_integer(self) -> bool {
         !matches!(self, Scalar::F32 | Scalar::F64)
     }
 }

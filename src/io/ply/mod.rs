@@ -1,9 +1,11 @@
-//! PLY reader (ASCII, binary little- and big-endian) for particle clouds.
+//! PLY reader (ASCII, binary little- and big-endian) for particle clouds and, with
+//! [`read_mesh`], triangle meshes.
 //!
 //! Reads element `vertex`: positions `x y z` (required), normals, thickness and radius by the
 //! aliases in [`crate::io`] (or the names given in [`ReadOptions`]), and every other scalar vertex
 //! property into [`PointCloud::extra`] as f32 (so integers above 2^24 lose precision; f64
-//! positions are narrowed to f32). List properties are skipped; elements before `vertex` are
+//! positions are narrowed to f32). List properties are skipped (except a mesh's face
+//! indices, see [`read_mesh`]); elements before `vertex` are
 //! skipped, elements after it are not read at all.
 //!
 //! Binary bodies are decoded column by column from 1 MiB chunks of whole records, each column by
@@ -27,7 +29,7 @@ use self::header::{Element, Encoding, Header, PropKind};
 use crate::error::{Error, Result};
 use crate::io::columns::{STANDARD, resolve_roles};
 use crate::io::{AttributeRole, ReadOptions, StoredAttribute};
-use crate::pointcloud::PointCloud;
+use crate::pointcloud::{PointCloud, TriangleMesh};
 
 /// Name used in error messages.
 const FORMAT: &str = "PLY";
@@ -114,11 +116,134 @@ fn read_from<R: Read>(
     };
     let mut out = Outputs::new(&plan, usize::try_from(reserve).unwrap_or(usize::MAX));
     match header.encoding {
-        Encoding::Ascii => ascii::read(&mut src, &header, vi, &plan, &mut out)?,
+        Encoding::Ascii => {
+            ascii::read(&mut src, &header, vi, &plan, &mut out)?;
+        }
         Encoding::BinaryLe => binary::read::<R, false>(&mut src, &header, vi, &plan, &mut out)?,
         Encoding::BinaryBe => binary::read::<R, true>(&mut src, &header, vi, &plan, &mut out)?,
     }
     Ok(out.into_cloud(plan, opts.thickness_scale(1.0)))
+}
+
+/// Reads the PLY mesh at `path`: element `vertex` as [`read`] reads it (positions, normals,
+/// thickness by the same aliases, extras), and element `face`, whose list property
+/// `vertex_indices` (or `vertex_index`) gives each polygon's vertices. Polygons are
+/// fan-triangulated; faces with fewer than three vertices are skipped. `face` must come after
+/// `vertex` (as every writer puts it); other elements are skipped.
+///
+/// # Errors
+/// As [`read`], plus [`Error::Format`] if there is no `face` element or index list, an index
+/// is not an integer or is beyond the vertex count (naming the face).
+pub fn read_mesh(path: &Path, opts: &ReadOptions) -> Result<TriangleMesh> {
+    opts.check()?;
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_dir() {
+        return Err(Error::io(
+            path,
+            io::Error::new(io::ErrorKind::IsADirectory, "is a directory"),
+        ));
+    }
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let len = meta.is_file().then_some(meta.len());
+    read_mesh_from(file, len, opts).map_err(|f| match f {
+        Fail::Io(e) => Error::io(path, e),
+        Fail::Msg(message) => Error::Format {
+            path: path.to_path_buf(),
+            format: FORMAT,
+            message,
+        },
+    })
+}
+
+/// Triangles being collected from a face element.
+pub(super) struct Faces {
+    vertices: usize,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Faces {
+    /// Checks a polygon's indices and adds its fan triangulation.
+    pub(super) fn push(&mut self, poly: &[f64]) -> Result<(), String> {
+        if let Some(&bad) = poly
+            .iter()
+            .find(|&&x| !(x >= 0.0 && x.fract() == 0.0 && x < self.vertices as f64))
+        {
+            return Err(format!(
+                "vertex index {bad} is not one of the {} vertices",
+                self.vertices
+            ));
+        }
+        for k in 1..poly.len().saturating_sub(1) {
+            self.triangles
+                .push([poly[0] as u32, poly[k] as u32, poly[k + 1] as u32]);
+        }
+        Ok(())
+    }
+}
+
+fn read_mesh_from<R: Read>(
+    reader: R,
+    len: Option<u64>,
+    opts: &ReadOptions,
+) -> Result<TriangleMesh, Fail> {
+    let mut src = source::Source::new(reader, len);
+    let header = header::parse(&mut src)?;
+    let find = |name: &str| header.elements.iter().position(|e| e.name == name);
+    let vi = find("vertex").ok_or_else(|| Fail::msg("no 'vertex' element in the header"))?;
+    let fi = find("face")
+        .ok_or_else(|| Fail::msg("no 'face' element in the header (a point cloud, not a mesh?)"))?;
+    if fi < vi {
+        return Err(Fail::msg(
+            "the 'face' element comes before 'vertex' (not supported; write vertices first)",
+        ));
+    }
+    let face = &header.elements[fi];
+    let li = face
+        .props
+        .iter()
+        .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
+        .ok_or_else(|| Fail::msg("element 'face' has no 'vertex_indices' list"))?;
+    match face.props[li].kind {
+        PropKind::List { item, .. } if item.is_integer() => {}
+        _ => {
+            return Err(Fail::msg(
+                "face property 'vertex_indices' must be a list of integers",
+            ));
+        }
+    }
+    let plan = resolve(&header.elements[vi], opts).map_err(Fail::Msg)?;
+    let count = header.elements[vi].count;
+    let reserve = match len {
+        Some(len) => {
+            check_sizes(&header, fi, len.saturating_sub(src.position()))?;
+            count
+        }
+        None => count.min(1 << 16),
+    };
+    let mut out = Outputs::new(&plan, usize::try_from(reserve).unwrap_or(usize::MAX));
+    let mut faces = Faces {
+        vertices: usize::try_from(count).unwrap_or(usize::MAX),
+        triangles: Vec::new(),
+    };
+    let at = (vi, fi, li);
+    match header.encoding {
+        Encoding::Ascii => {
+            let line = ascii::read(&mut src, &header, vi, &plan, &mut out)?;
+            ascii::read_faces(&mut src, &header, at, line, &mut faces)?;
+        }
+        Encoding::BinaryLe => {
+            binary::read::<R, false>(&mut src, &header, vi, &plan, &mut out)?;
+            binary::read_faces::<R, false>(&mut src, &header, at, &mut faces)?;
+        }
+        Encoding::BinaryBe => {
+            binary::read::<R, true>(&mut src, &header, vi, &plan, &mut out)?;
+            binary::read_faces::<R, true>(&mut src, &header, at, &mut faces)?;
+        }
+    }
+    Ok(TriangleMesh {
+        vertices: out.into_cloud(plan, opts.thickness_scale(1.0)).0,
+        triangles: faces.triangles,
+    })
 }
 
 /// Checks that the body can hold the elements up to and including `vertex` (index `vi`), before

@@ -1,0 +1,386 @@
+//! `filmsplat compare`: one scene, two geometries, side by side, with metrics.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::Args;
+
+use super::render::{RenderArgs, scene_from_args};
+use super::sequence;
+use crate::figure::side_by_side;
+use crate::image::{RgbImage, ToneMap, metrics::delta_e_map, save_png};
+use crate::pipeline::compare::{
+    GeometryChoice, MeshOptions, Metrics, ShellOption, Variant, display_image, metrics,
+    prepare_pair,
+};
+use crate::pointcloud::Transfer;
+use crate::render::View;
+use crate::{Error, Result};
+
+/// Arguments of `filmsplat compare`: the two geometries, then everything `render` takes.
+#[derive(Debug, Clone, Args)]
+pub struct CompareArgs {
+    /// First geometry: disk, sphere, mls, mesh:FILE (PLY with faces or OBJ) or reconstructed.
+    a: String,
+    /// Second geometry (same choices).
+    b: String,
+    #[command(flatten)]
+    render: RenderArgs,
+    /// Meshes that are thin closed shells (an iso-surface around one layer of particles
+    /// crosses each film twice): auto (warn), all (no check), merge (one film per crossing,
+    /// walls detected), merge:DIST (walls closer than DIST scene units merged).
+    #[arg(long, default_value = "auto")]
+    shell: String,
+    /// How a mesh without thickness gets the cloud's: kernel (SPH interpolation over 16
+    /// neighbours), kernel:K (over K), or nearest.
+    #[arg(long, default_value = "kernel")]
+    transfer: String,
+    /// ΔE2000 at the top of the heat map's scale (larger differences saturate).
+    #[arg(long, default_value_t = 10.0)]
+    heat_max: f32,
+    /// Print the metrics as JSON on stdout (notes and warnings go to stderr).
+    #[arg(long)]
+    json: bool,
+}
+
+fn transfer(s: &str) -> Result<Transfer> {
+    match s {
+        "nearest" => Ok(Transfer::Nearest),
+        "kernel" => Ok(Transfer::default()),
+        _ => match s.strip_prefix("kernel:").map(str::parse::<usize>) {
+            Some(Ok(k)) if (1..=256).contains(&k) => Ok(Transfer::Kernel { k }),
+            _ => Err(Error::invalid(format!(
+                "--transfer: '{s}' is not nearest, kernel or kernel:K (K = 1..256)"
+            ))),
+        },
+    }
+}
+
+/// One side's figures.
+#[derive(Debug)]
+struct Side {
+    label: String,
+    elements: usize,
+    prepare: Duration,
+    mesh: Option<Duration>,
+    meshing: Option<Duration>,
+    render: Duration,
+}
+
+/// One compared frame.
+struct FrameResult {
+    frame: Option<u64>,
+    sides: [Side; 2],
+    metrics: Metrics,
+    images: [RgbImage; 2],
+    output: PathBuf,
+}
+
+/// Runs `filmsplat compare`.
+pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
+    let mesh = MeshOptions {
+        shell: a.shell.parse::<ShellOption>()?,
+        transfer: transfer(&a.transfer)?,
+    };
+    if !(a.heat_max > 0.0 && a.heat_max.is_finite()) {
+        return Err(Error::invalid(format!(
+            "--heat-max must be > 0, got {}",
+            a.heat_max
+        )));
+    }
+    if a.render.exr.is_some() {
+        return Err(Error::invalid(
+            "compare writes one PNG; --exr is not supported",
+        ));
+    }
+    let output = a
+        .render
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("compare.png"));
+    if !output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return Err(Error::invalid(format!(
+            "{}: the comparison is written as PNG; give a .png output",
+            output.display()
+        )));
+    }
+    let Some(frames) = &a.render.frames else {
+        let r = compare_one(a, &mesh, None, &output, out)?;
+        report(a, std::slice::from_ref(&r), None, out);
+        return Ok(());
+    };
+    let out_pattern = output.to_string_lossy().into_owned();
+    if sequence::expand(&out_pattern, 0)?.is_none() {
+        return Err(Error::invalid(format!(
+            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
+        )));
+    }
+    let mine = sequence::sharded(&frames.0, a.render.shard);
+    let mut results: Vec<FrameResult> = Vec::new();
+    let mut flicker = [0.0f64; 2];
+    for &f in &mine {
+        let target = PathBuf::from(sequence::expand(&out_pattern, f)?.expect("checked"));
+        let r = compare_one(a, &mesh, Some(f), &target, out)
+            .map_err(|e| Error::invalid(format!("frame {f}: {e}")))?;
+        if let Some(prev) = results.last() {
+            for (k, fl) in flicker.iter_mut().enumerate() {
+                let d = delta_e_map(&prev.images[k], &r.images[k])?;
+                *fl += d.iter().map(|&v| f64::from(v)).sum::<f64>() / d.len() as f64;
+            }
+        }
+        // Only the last frame's pictures are needed for the next difference.
+        if let Some(prev) = results.last_mut() {
+            prev.images = [RgbImage::new(0, 0), RgbImage::new(0, 0)];
+        }
+        results.push(r);
+    }
+    let pairs = results.len().saturating_sub(1);
+    let temporal = (pairs > 0).then(|| flicker.map(|s| s / pairs as f64));
+    report(a, &results, temporal, out);
+    Ok(())
+}
+
+/// Prepares, renders and compares one frame (`frame` = `None` outside a sequence); writes the
+/// figure to `output`.
+fn compare_one(
+    a: &CompareArgs,
+    mesh: &MeshOptions,
+    frame: Option<u64>,
+    output: &Path,
+    out: &mut dyn Write,
+) -> Result<FrameResult> {
+    let mut ra = a.render.clone();
+    ra.frames = None;
+    let choice = |s: &str| -> Result<GeometryChoice> {
+        match frame {
+            Some(f) => sequence::expand(s, f).map(|e| e.unwrap_or_else(|| s.to_string())),
+            None => Ok(s.to_string()),
+        }?
+        .parse()
+    };
+    let choices = [choice(&a.a)?, choice(&a.b)?];
+    if let Some(f) = frame {
+        ra.frame = Some(f);
+        ra.seed = Some(a.render.seed.unwrap_or(0).wrapping_add(f));
+        let input = ra.input.to_string_lossy().into_owned();
+        if let Some(p) = sequence::expand(&input, f)? {
+            ra.input = PathBuf::from(p);
+        }
+    }
+    let (desc, base) = scene_from_args(&ra)?;
+    if let Some(v) = &desc.render.view
+        && v.parse::<View>().ok() != Some(View::Shaded)
+    {
+        return Err(Error::invalid(format!(
+            "compare renders the shaded view only (got view '{v}')"
+        )));
+    }
+    let progress = !a.render.quiet && !a.json && std::io::stderr().is_terminal();
+    let variants = prepare_pair(&desc, &base, [&choices[0], &choices[1]], mesh, progress)?;
+    let mut notes: Vec<&String> = Vec::new();
+    for v in &variants {
+        for n in &v.prepared.notes {
+            if !n.is_empty() && !n.contains("nothing to fill") && !notes.contains(&n) {
+                notes.push(n);
+            }
+        }
+    }
+    if !a.render.quiet {
+        for n in notes {
+            if a.json {
+                eprintln!("{n}");
+            } else {
+                let _ = writeln!(out, "{n}");
+            }
+        }
+    }
+    let mut images = Vec::with_capacity(2);
+    let mut sides = Vec::with_capacity(2);
+    for v in &variants {
+        let t = Instant::now();
+        let rendered = crate::pipeline::render(&v.prepared)?;
+        let render = t.elapsed();
+        images.push(display_image(&v.prepared, &rendered)?);
+        sides.push(side(v, render));
+    }
+    let [ia, ib]: [RgbImage; 2] = images.try_into().expect("two");
+    let m = metrics(&ia, &ib)?;
+    let [sa, sb]: [Side; 2] = sides.try_into().expect("two");
+    let caption = |s: &Side| format!("{} · {:.2} s", s.label, s.render.as_secs_f64());
+    let title = format!("ΔE00 mean {:.2}, p95 {:.2}", m.delta_e.mean, m.delta_e.p95);
+    let fig = side_by_side(
+        &ia,
+        &ib,
+        [&caption(&sa), &caption(&sb)],
+        &m.delta_e_map,
+        a.heat_max,
+        &title,
+    );
+    save_png(output, &fig, 0.0, ToneMap::Clamp)?;
+    Ok(FrameResult {
+        frame,
+        sides: [sa, sb],
+        metrics: m,
+        images: [ia, ib],
+        output: output.to_path_buf(),
+    })
+}
+
+fn side(v: &Variant, render: Duration) -> Side {
+    let p = &v.prepared;
+    Side {
+        label: v.choice.to_string(),
+        elements: p.particles,
+        prepare: p.load_time + p.estimate_time + p.build_time,
+        mesh: v.mesh_time,
+        meshing: v.meshing_time,
+        render,
+    }
+}
+
+fn secs(d: Option<Duration>) -> String {
+    d.map_or("null".into(), |d| format!("{:.4}", d.as_secs_f64()))
+}
+
+fn num(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.6}")
+    } else {
+        "null".into()
+    }
+}
+
+/// A JSON string literal.
+fn json_str(s: &str) -> String {
+    let mut o = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => o.push_str("\\\""),
+            '\\' => o.push_str("\\\\"),
+            c if (c as u32) < 0x20 => o.push_str(&format!("\\u{:04x}", c as u32)),
+            c => o.push(c),
+        }
+    }
+    o.push('"');
+    o
+}
+
+fn side_json(s: &Side) -> String {
+    format!(
+        "{{\"geometry\":{},\"elements\":{},\"prepare_s\":{},\"mesh_s\":{},\"meshing_s\":{},\"render_s\":{}}}",
+        json_str(&s.label),
+        s.elements,
+        secs(Some(s.prepare)),
+        secs(s.mesh),
+        secs(s.meshing),
+        secs(Some(s.render))
+    )
+}
+
+fn metrics_json(m: &Metrics) -> String {
+    format!(
+        "\"psnr_db\":{},\"identical\":{},\"ssim\":{},\"delta_e\":{{\"mean\":{},\"p95\":{},\"max\":{}}}",
+        num(m.psnr_db),
+        m.psnr_db.is_infinite(),
+        num(m.ssim),
+        num(m.delta_e.mean),
+        num(m.delta_e.p95),
+        num(m.delta_e.max)
+    )
+}
+
+/// Prints the metrics (text or JSON) of one comparison or a sequence of them.
+fn report(
+    a: &CompareArgs,
+    results: &[FrameResult],
+    temporal: Option<[f64; 2]>,
+    out: &mut dyn Write,
+) {
+    if a.json {
+        let body = if let [r] = results
+            && r.frame.is_none()
+        {
+            format!(
+                "{{\"a\":{},\"b\":{},{},\"output\":{}}}",
+                side_json(&r.sides[0]),
+                side_json(&r.sides[1]),
+                metrics_json(&r.metrics),
+                json_str(&r.output.display().to_string())
+            )
+        } else {
+            let frames: Vec<String> = results
+                .iter()
+                .map(|r| {
+                    format!(
+                        "{{\"frame\":{},\"a\":{},\"b\":{},{},\"output\":{}}}",
+                        r.frame.unwrap_or(0),
+                        side_json(&r.sides[0]),
+                        side_json(&r.sides[1]),
+                        metrics_json(&r.metrics),
+                        json_str(&r.output.display().to_string())
+                    )
+                })
+                .collect();
+            let t = temporal.map_or("null".into(), |t| {
+                format!("{{\"a\":{},\"b\":{}}}", num(t[0]), num(t[1]))
+            });
+            format!(
+                "{{\"frames\":[{}],\"temporal_delta_e\":{t}}}",
+                frames.join(",")
+            )
+        };
+        let _ = writeln!(out, "{body}");
+        return;
+    }
+    if a.render.quiet {
+        return;
+    }
+    for r in results {
+        if let Some(f) = r.frame {
+            let _ = writeln!(out, "frame {f}:");
+        }
+        for (k, s) in r.sides.iter().enumerate() {
+            let mut line = format!(
+                "  {}: {} ({} elements): prepare {:.3} s",
+                ["A", "B"][k],
+                s.label,
+                s.elements,
+                s.prepare.as_secs_f64()
+            );
+            if let Some(m) = s.meshing {
+                line += &format!(", meshing {:.3} s", m.as_secs_f64());
+            }
+            if let Some(m) = s.mesh {
+                line += &format!(", mesh prep {:.3} s", m.as_secs_f64());
+            }
+            line += &format!(", render {:.3} s", s.render.as_secs_f64());
+            let _ = writeln!(out, "{line}");
+        }
+        let m = &r.metrics;
+        let _ = writeln!(
+            out,
+            "  PSNR {} dB, SSIM {:.4}, ΔE2000 mean {:.3}, p95 {:.3}, max {:.3}; wrote {}",
+            if m.psnr_db.is_infinite() {
+                "inf".to_string()
+            } else {
+                format!("{:.2}", m.psnr_db)
+            },
+            m.ssim,
+            m.delta_e.mean,
+            m.delta_e.p95,
+            m.delta_e.max,
+            r.output.display()
+        );
+    }
+    if let Some(t) = temporal {
+        let _ = writeln!(
+            out,
+            "temporal stability (mean ΔE2000 between adjacent frames): A {:.3}, B {:.3}",
+            t[0], t[1]
+        );
+    }
+}
