@@ -30,7 +30,7 @@ pub fn separation(time: f64) -> f64 {
 /// decreasing; 100 halvings, exact to f64.
 pub fn neck(h: f64) -> Option<f64> {
     let target = 2.0 / h;
-    if !(h > 0.0) || X_LIMIT.cosh() / X_LIMIT > target {
+    if h.is_nan() || h <= 0.0 || X_LIMIT.cosh() / X_LIMIT > target {
         return None;
     }
     let (mut lo, mut hi) = (1e-12, X_LIMIT);

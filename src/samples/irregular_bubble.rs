@@ -59,7 +59,8 @@ fn radius_at(modes: &[Mode], q: DVec3, time: f64) -> (f64, DVec3) {
 }
 
 /// The irregular bubble (mean radius ≈ 1, centre at the origin, y up) with the bubble's
-/// thickness field. Radius stays within 1 ± 0.2 (Σ|aₖ| ≤ 1.6·Σ Aₖ/√3·3). Particles keep their
+/// thickness field. Radius stays within 1 ± 0.32 (|aₖ| ≤ 1.6·Aₖ/√3, |P_l| ≤ 1; typically
+/// ± 0.1). Particles keep their
 /// directions q, so they move smoothly in time. Deterministic for a seed.
 pub fn irregular_bubble(p: &SampleParams) -> PointCloud {
     let modes = modes(p.seed);
