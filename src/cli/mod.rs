@@ -10,6 +10,7 @@ mod parse;
 mod render;
 mod sample;
 mod sequence;
+mod stability;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -37,6 +38,9 @@ enum Command {
     Sample(sample::SampleArgs),
     /// Convert any particle file filmsplat reads to binary PLY.
     Convert(convert::ConvertArgs),
+    /// Measure the temporal stability of a rendered sequence (mean CIEDE2000 between adjacent
+    /// frames where the depth changes little).
+    Stability(stability::StabilityArgs),
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
@@ -65,6 +69,7 @@ where
         Command::Info(a) => info::run(&a, out),
         Command::Sample(a) => sample::run(&a, out),
         Command::Convert(a) => convert::run(&a, out),
+        Command::Stability(a) => stability::run(&a, out),
     }
 }
 
