@@ -55,7 +55,39 @@ fn stability_of_a_tiny_sequence() {
     let (code, out, _) = filmsplat(&["stability", png.to_str().unwrap(), "--frames", "0..4"]);
     assert!(code == 0 && out.contains("every pixel"), "{out}");
 
+    // EXRs without a depth layer: as frames they compare every pixel; as --depth they are
+    // refused. Frames of different sizes are refused.
+    for (f, w) in [(0, 24), (1, 24), (2, 8)] {
+        let layers = filmsplat::image::ExrLayers::rgba(w, 16, vec![[0.5, 0.4, 0.3, 1.0]; w * 16]);
+        filmsplat::image::write_exr(&dir.join(format!("nd_{f:02}.exr")), &layers).unwrap();
+    }
+    let nd = dir.join("nd_{:02}.exr");
+    let nd = nd.to_str().unwrap();
+    let (code, out, _) = filmsplat(&["stability", nd, "--frames", "0..2"]);
+    assert!(
+        code == 0 && out.contains("mean dE00 0.000") && out.contains("every pixel"),
+        "{out}"
+    );
+    let png_s = png.to_str().unwrap();
     for (args, needle) in [
+        (
+            vec!["stability", png_s, "--frames", "0..2", "--depth", nd],
+            "no depth layer",
+        ),
+        (
+            vec!["stability", nd, "--frames", "1..3"],
+            "frame 2: cannot compare",
+        ),
+        (
+            vec![
+                "stability",
+                png_s,
+                "--frames",
+                "0..2",
+                "--depth-tolerance=-1",
+            ],
+            "depth-tolerance",
+        ),
         (
             vec!["stability", "no-pattern.exr", "--frames", "0..3"],
             "frame pattern",

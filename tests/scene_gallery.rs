@@ -43,3 +43,20 @@ fn every_sample_scene_renders_at_32x24() {
         );
     }
 }
+
+#[test]
+fn a_scene_file_names_any_generator_and_can_thin_it() {
+    let desc = SceneDesc::from_toml(
+        "[input]\nsample = \"half-bubble\"\nparticles = 4000\ntime = 0.5\nsparse = 0.5\n",
+        "inline",
+    )
+    .unwrap();
+    let c = filmsplat::pipeline::load_cloud(&desc, Path::new(".")).unwrap();
+    assert!((1800..2200).contains(&c.len()), "{}", c.len());
+    let full = SampleKind::HalfBubble.generate(&filmsplat::samples::SampleParams {
+        particles: 4000,
+        time: 0.5,
+        seed: 1,
+    });
+    assert!(c.positions.iter().all(|p| full.positions.contains(p)));
+}

@@ -34,7 +34,8 @@ enum Command {
     Render(Box<render::RenderArgs>),
     /// Describe a particle file: counts, attributes, bounds, spacing, thickness.
     Info(info::InfoArgs),
-    /// Write a built-in sample cloud (e.g. a soap bubble) as PLY.
+    /// Write a built-in sample cloud (a gallery scene: bubble, catenoid, films, drip, ...) as
+    /// PLY, or a sequence of them.
     Sample(sample::SampleArgs),
     /// Convert any particle file filmsplat reads to binary PLY.
     Convert(convert::ConvertArgs),
