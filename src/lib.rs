@@ -16,7 +16,7 @@
 //! | [`pointcloud`] | the particle cloud and its validation/estimation | — |
 //! | [`io`] | readers (PLY, ...) filling a [`pointcloud::PointCloud`] | `pointcloud` |
 //! | [`geometry`] | disks, spheres, BVH, ray queries | `pointcloud` |
-//! | [`samples`] | synthetic thin-film clouds (bubble, ...) | `pointcloud` |
+//! | [`samples`] | synthetic thin-film clouds: the scene gallery (bubble, catenoid, films, drip, ...) sharing one thickness field | `pointcloud` |
 //! | [`figure`] | the interference chart and annotated figures | `spectrum`, `image` |
 //! | [`render`] | camera, environment, integrator, film buffer | all above |
 //! | [`pipeline`] | scene description → particles → geometry → image files | all above |

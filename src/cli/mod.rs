@@ -11,6 +11,7 @@ mod parse;
 mod render;
 mod sample;
 mod sequence;
+mod stability;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -34,13 +35,17 @@ enum Command {
     Render(Box<render::RenderArgs>),
     /// Describe a particle file: counts, attributes, bounds, spacing, thickness.
     Info(info::InfoArgs),
-    /// Write a built-in sample cloud (e.g. a soap bubble) as PLY.
+    /// Write a built-in sample cloud (a gallery scene: bubble, catenoid, films, drip, ...) as
+    /// PLY, or a sequence of them.
     Sample(sample::SampleArgs),
     /// Convert any particle file filmsplat reads to binary PLY.
     Convert(convert::ConvertArgs),
     /// Render one scene with two geometries (disk, sphere, mls, mesh:FILE, reconstructed):
     /// a side-by-side PNG with a ΔE heat map, timings, PSNR, SSIM and CIEDE2000.
     Compare(Box<compare::CompareArgs>),
+    /// Measure the temporal stability of a rendered sequence (mean CIEDE2000 between adjacent
+    /// frames where the depth changes little).
+    Stability(stability::StabilityArgs),
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
@@ -70,6 +75,7 @@ where
         Command::Sample(a) => sample::run(&a, out),
         Command::Convert(a) => convert::run(&a, out),
         Command::Compare(a) => compare::run(&a, out),
+        Command::Stability(a) => stability::run(&a, out),
     }
 }
 

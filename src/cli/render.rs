@@ -254,7 +254,7 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
         }
         if d.input.sample.is_some() {
             // A generated sample animates at 24 frames a second from its scene time.
-            d.input.time = Some(d.input.time.unwrap_or(0.0) + f as f32 / 24.0);
+            d.input.time = Some(d.input.time.unwrap_or(0.0) + f as f32 / super::sample::FPS);
         }
     }
     if let Some((w, h)) = a.size {

@@ -1,95 +1,142 @@
-//! `filmsplat sample`: write a built-in thin-film particle cloud.
+//! `filmsplat sample`: write a built-in thin-film particle cloud, or a sequence of them.
 
+use super::sequence::{self, FrameList};
 use crate::io::{write_mesh_ply, write_ply};
-use crate::samples::{BubbleParams, bubble, icosphere};
+use crate::pipeline::check_sample_params;
+use crate::samples::{SampleKind, SampleParams, icosphere, sparse};
 use crate::{Error, Result};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
 
-/// The sample generators.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum SampleName {
-    /// A soap bubble: a sphere of particles with a draining, swirling thickness field.
-    Bubble,
-    /// The bubble's analytic surface as a triangle mesh (subdivided icosahedron about the
-    /// origin, radius --radius, outward normals, no thickness), to compare against with
-    /// `compare ... mesh:FILE`.
+/// Frames a second of a generated sequence (as `render --frames` animates samples).
+pub const FPS: f32 = 24.0;
+
+/// What `sample NAME` writes: a generated cloud, or the bubble's analytic surface as a mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Target {
+    Cloud(SampleKind),
     BubbleMesh,
+}
+
+fn sample_target(s: &str) -> std::result::Result<Target, String> {
+    if s == "bubble-mesh" {
+        return Ok(Target::BubbleMesh);
+    }
+    SampleKind::from_name(s)
+        .map(Target::Cloud)
+        .map_err(|e| format!("{e}, bubble-mesh"))
 }
 
 /// Arguments of `filmsplat sample`.
 #[derive(Debug, Args)]
 pub struct SampleArgs {
-    /// Which sample.
-    name: SampleName,
-    /// Output PLY (binary little-endian, with x y z nx ny nz rh radius; rh in nm).
+    /// Which sample: bubble, irregular-bubble, catenoid, half-bubble, square-film,
+    /// circle-film, drip, oscillating-bubble; or bubble-mesh, the bubble's analytic surface as a
+    /// triangle mesh (subdivided icosahedron about the origin, radius --radius, outward normals,
+    /// no thickness) to compare against with `compare ... mesh:FILE`.
+    #[arg(value_parser = sample_target)]
+    name: Target,
+    /// Output PLY (binary little-endian, with x y z nx ny nz rh radius; rh in nm); with
+    /// --frames a pattern such as 'out/{:04}.ply'.
     #[arg(short, long)]
     output: PathBuf,
     /// Number of particles.
     #[arg(long, default_value_t = 200_000)]
     particles: usize,
-    /// Seed of the particle jitter.
+    /// Seed of the particle jitter and the thickness field.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Time of the animation, seconds (with --frames: of frame 0).
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
+    /// Write a sequence: frame f at time --time + f/24 s (A..B, A..=B or A).
+    #[arg(long, value_parser = sequence::frame_list)]
+    frames: Option<FrameList>,
     /// Radius of bubble-mesh, scene units (the bubble sample's is 1).
     #[arg(long, default_value_t = 1.0)]
     radius: f32,
     /// Subdivisions of the icosahedron for bubble-mesh (20·4^N triangles, 0..=9).
     #[arg(long, default_value_t = 5)]
     subdivisions: u32,
-    /// Time of the thickness animation, seconds.
-    #[arg(long, default_value_t = 0.0)]
-    time: f32,
+    /// Keep only a random fraction F in (0, 1] of the particles (splats widened by 1/√F), to
+    /// test sparse data.
+    #[arg(long)]
+    sparse: Option<f64>,
 }
 
 /// Runs `filmsplat sample`.
 pub fn run(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
-    if a.particles == 0 || a.particles > 50_000_000 {
-        return Err(Error::invalid(format!(
-            "sample: --particles must be 1..=50000000, got {}",
-            a.particles
-        )));
-    }
-    if !a.time.is_finite() {
-        return Err(Error::invalid("sample: --time must be finite"));
-    }
-    let cloud = match a.name {
-        SampleName::Bubble => bubble(&BubbleParams {
-            particles: a.particles,
-            seed: a.seed,
-            time: a.time,
-            ..BubbleParams::default()
-        }),
-        SampleName::BubbleMesh => {
-            if a.subdivisions > 9 {
+    let kind = match a.name {
+        Target::Cloud(k) => k,
+        Target::BubbleMesh => return write_bubble_mesh(a, out),
+    };
+    let base = SampleParams {
+        particles: a.particles,
+        seed: a.seed,
+        time: a.time,
+    };
+    check_sample_params(&base, a.sparse, "sample: --")?;
+    let pattern = a.output.to_string_lossy().to_string();
+    let jobs: Vec<(PathBuf, f32)> = match &a.frames {
+        None => vec![(a.output.clone(), a.time)],
+        Some(frames) => {
+            if sequence::expand(&pattern, 0)?.is_none() {
                 return Err(Error::invalid(format!(
-                    "sample: --subdivisions must be 0..=9, got {}",
-                    a.subdivisions
+                    "{pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
                 )));
             }
-            if !(a.radius > 0.0 && a.radius.is_finite()) {
-                return Err(Error::invalid(format!(
-                    "sample: --radius must be > 0, got {}",
-                    a.radius
-                )));
-            }
-            let mesh = icosphere(a.radius, a.subdivisions);
-            write_mesh_ply(&a.output, &mesh)?;
-            let _ = writeln!(
-                out,
-                "wrote {} triangles to {}",
-                mesh.len(),
-                a.output.display()
-            );
-            return Ok(());
+            frames
+                .0
+                .iter()
+                .map(|&f| {
+                    let path = sequence::expand(&pattern, f)?.expect("checked");
+                    Ok((PathBuf::from(path), a.time + f as f32 / FPS))
+                })
+                .collect::<Result<_>>()?
         }
     };
-    write_ply(&a.output, &cloud)?;
+    for (path, time) in jobs {
+        let p = SampleParams {
+            time,
+            ..base.clone()
+        };
+        let mut cloud = kind.generate(&p);
+        if let Some(f) = a.sparse.filter(|f| *f < 1.0) {
+            cloud = sparse(&cloud, f, a.seed);
+        }
+        write_ply(&path, &cloud)?;
+        let _ = writeln!(
+            out,
+            "wrote {} particles ({}, t = {time} s) to {}",
+            cloud.len(),
+            kind.name(),
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// `sample bubble-mesh`: the bubble's sphere as a triangle mesh.
+fn write_bubble_mesh(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
+    if a.subdivisions > 9 {
+        return Err(Error::invalid(format!(
+            "sample: --subdivisions must be 0..=9, got {}",
+            a.subdivisions
+        )));
+    }
+    if !(a.radius > 0.0 && a.radius.is_finite()) {
+        return Err(Error::invalid(format!(
+            "sample: --radius must be > 0, got {}",
+            a.radius
+        )));
+    }
+    let mesh = icosphere(a.radius, a.subdivisions);
+    write_mesh_ply(&a.output, &mesh)?;
     let _ = writeln!(
         out,
-        "wrote {} particles to {}",
-        cloud.len(),
+        "wrote {} triangles to {}",
+        mesh.len(),
         a.output.display()
     );
     Ok(())

@@ -14,6 +14,7 @@ mod font;
 pub mod grade;
 pub mod metrics;
 mod png;
+pub mod stability;
 pub mod text;
 mod tonemap;
 
@@ -23,7 +24,7 @@ pub use colormap::viridis;
 pub use draw::{blend, draw_line, fill_rect, stroke_rect};
 pub use exr::{ExrLayers, read_exr, read_exr_rgba, write_exr};
 pub use grade::Grade;
-pub use png::{save_png, write_png, write_png_rgba};
+pub use png::{read_png, save_png, write_png, write_png_rgba};
 pub use text::{
     Anchor, FontMetrics, HAlign, VAlign, draw_text, draw_text_vertical, font_metrics, text_width,
 };

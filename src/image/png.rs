@@ -67,6 +67,35 @@ fn write_png_impl(
     })
 }
 
+/// Reads a PNG (any bit depth or colour type the `image` crate decodes) as linear RGB: the
+/// 8-bit sRGB values are decoded with the sRGB curve; alpha is ignored.
+pub fn read_png(path: &Path) -> Result<RgbImage> {
+    let bad = |e: String| Error::Format {
+        path: path.into(),
+        format: "PNG",
+        message: e,
+    };
+    let img = ::image::ImageReader::open(path)
+        .map_err(|e| Error::io(path, e))?
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, e))?
+        .decode()
+        .map_err(|e| bad(e.to_string()))?
+        .to_rgb8();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let data = img
+        .pixels()
+        .map(|p| {
+            p.0.map(|v| super::tonemap::srgb_to_linear(v as f32 / 255.0))
+        })
+        .collect();
+    Ok(RgbImage {
+        width: w,
+        height: h,
+        data,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,6 +110,16 @@ mod tests {
         let back = ::image::open(&p).unwrap().to_rgb8();
         assert_eq!((back.width(), back.height()), (3, 2));
         assert_eq!(back.as_raw(), &px);
+        // read_png decodes the sRGB bytes to linear values, which encode back to the bytes.
+        let lin = read_png(&p).unwrap();
+        assert_eq!((lin.width, lin.height), (3, 2));
+        let again: Vec<u8> = lin
+            .data
+            .iter()
+            .flat_map(|p| p.map(super::super::tonemap::encode_srgb8))
+            .collect();
+        assert_eq!(again, px);
+        assert!(read_png(&dir.join("none.png")).is_err());
 
         let rgba: Vec<u8> = (0..4 * 4).map(|i| (i * 17) as u8).collect();
         write_png_rgba(&p, 2, 2, &rgba).unwrap();

@@ -28,7 +28,7 @@ use crate::render::{
     Camera, Environment, FilmShader, LatLongMap, Preset, RenderOutput, RenderSettings, Scene,
     ShadingMode, Studio, View, ViewImage,
 };
-use crate::samples::{BubbleParams, bubble};
+use crate::samples::{SampleKind, SampleParams, sparse};
 use crate::scene::SceneDesc;
 use crate::spectrum::WavelengthStrategy;
 use crate::{Error, Result};
@@ -93,6 +93,29 @@ pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
     }
 }
 
+/// Checks a sample's parameters (`prefix` names where they came from: "input." in scene
+/// files, "--" on the command line): particles in 1..=50 000 000, a finite time, a sparse
+/// fraction in (0, 1].
+pub fn check_sample_params(p: &SampleParams, sparse: Option<f64>, prefix: &str) -> Result<()> {
+    if p.particles == 0 || p.particles > 50_000_000 {
+        return Err(Error::invalid(format!(
+            "{prefix}particles must be 1..=50000000, got {}",
+            p.particles
+        )));
+    }
+    if !p.time.is_finite() {
+        return Err(Error::invalid(format!("{prefix}time must be finite")));
+    }
+    if let Some(f) = sparse
+        && !(f > 0.0 && f <= 1.0)
+    {
+        return Err(Error::invalid(format!(
+            "{prefix}sparse must be a fraction in (0, 1], got {f}"
+        )));
+    }
+    Ok(())
+}
+
 /// Loads (or generates) the scene's particle cloud, with thickness in nm.
 pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
     let input = &desc.input;
@@ -103,30 +126,26 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
         (None, None) => Err(Error::invalid(
             "input: no particles given (set input.cloud or input.sample)",
         )),
-        (None, Some(name)) => match name.as_str() {
-            "bubble" => {
-                let mut p = BubbleParams::default();
-                if let Some(n) = input.particles {
-                    p.particles = n;
-                }
-                if let Some(s) = input.sample_seed {
-                    p.seed = s;
-                }
-                if let Some(t) = input.time {
-                    p.time = t;
-                }
-                if p.particles == 0 || p.particles > 50_000_000 {
-                    return Err(Error::invalid(format!(
-                        "input.particles must be 1..=50000000, got {}",
-                        p.particles
-                    )));
-                }
-                Ok(bubble(&p))
+        (None, Some(name)) => {
+            let kind = SampleKind::from_name(name)
+                .map_err(|e| Error::invalid(format!("input.sample: {e}")))?;
+            let mut p = SampleParams::default();
+            if let Some(n) = input.particles {
+                p.particles = n;
             }
-            other => Err(Error::invalid(format!(
-                "input.sample: unknown sample '{other}' (available: bubble)"
-            ))),
-        },
+            if let Some(s) = input.sample_seed {
+                p.seed = s;
+            }
+            if let Some(t) = input.time {
+                p.time = t;
+            }
+            check_sample_params(&p, input.sparse, "input.")?;
+            let cloud = kind.generate(&p);
+            Ok(match input.sparse {
+                Some(f) if f < 1.0 => sparse(&cloud, f, p.seed),
+                _ => cloud,
+            })
+        }
         (Some(path), None) => {
             let mut opts = ReadOptions {
                 thickness_attr: input.thickness_attr.clone(),

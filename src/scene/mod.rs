@@ -112,7 +112,8 @@ pub struct PropDesc {
 pub struct InputDesc {
     /// Particle file (PLY), relative to the scene file.
     pub cloud: Option<PathBuf>,
-    /// Built-in sample instead of a file: "bubble".
+    /// Built-in sample instead of a file: "bubble", "irregular-bubble", "catenoid",
+    /// "half-bubble", "square-film", "circle-film", "drip" or "oscillating-bubble".
     pub sample: Option<String>,
     /// Particle count for a sample.
     pub particles: Option<usize>,
@@ -120,6 +121,8 @@ pub struct InputDesc {
     pub sample_seed: Option<u64>,
     /// Time of a sample's thickness animation, seconds.
     pub time: Option<f32>,
+    /// Keep only this random fraction (0, 1] of a sample's particles (sparse-data tests).
+    pub sparse: Option<f64>,
     /// Name of the thickness attribute in the file (default: rh, thickness, h).
     pub thickness_attr: Option<String>,
     /// Prefix of the normal attributes (default: n, normal, normals, N).
