@@ -24,7 +24,8 @@ pub struct RenderArgs {
     /// Also write the linear EXR with all layers to this path.
     #[arg(long)]
     exr: Option<PathBuf>,
-    /// How particles are drawn: disk (oriented splats, blended into one film) or sphere.
+    /// How particles are drawn: disk (oriented splats, blended into one film), sphere, or mls
+    /// (the smooth moving-least-squares surface through the particles).
     #[arg(long)]
     primitive: Option<String>,
     /// Camera samples per pixel.

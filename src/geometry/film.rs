@@ -1,9 +1,9 @@
 //! [`FilmGeometry`]: the one interface the renderer queries for film crossings, whatever draws
-//! the film (splats today; further geometries add a variant here).
+//! the film (splats or the MLS surface; further geometries add a variant here).
 
 use std::fmt;
 
-use super::{Aabb, Ray, SplatGeometry, SurfaceHit};
+use super::{Aabb, MlsSurface, Ray, SplatGeometry, SurfaceHit};
 
 /// The films of a scene. A closed set of geometries dispatched by `match` (no virtual calls).
 /// Every variant answers the same three questions: the first crossing along a ray, whether there
@@ -12,6 +12,8 @@ use super::{Aabb, Ray, SplatGeometry, SurfaceHit};
 pub enum FilmGeometry {
     /// Particles drawn as blended disks or as spheres.
     Splats(SplatGeometry),
+    /// The smooth moving-least-squares surface of the particles.
+    Mls(MlsSurface),
 }
 
 impl FilmGeometry {
@@ -21,6 +23,7 @@ impl FilmGeometry {
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         match self {
             FilmGeometry::Splats(g) => g.intersect(ray, t_min, t_max),
+            FilmGeometry::Mls(g) => g.intersect(ray, t_min, t_max),
         }
     }
 
@@ -29,6 +32,7 @@ impl FilmGeometry {
     pub fn intersect_any(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         match self {
             FilmGeometry::Splats(g) => g.intersect_any(ray, t_min, t_max),
+            FilmGeometry::Mls(g) => g.intersect_any(ray, t_min, t_max),
         }
     }
 
@@ -36,6 +40,7 @@ impl FilmGeometry {
     pub fn bounds(&self) -> Aabb {
         match self {
             FilmGeometry::Splats(g) => g.bounds(),
+            FilmGeometry::Mls(g) => g.bounds(),
         }
     }
 
@@ -43,6 +48,7 @@ impl FilmGeometry {
     pub fn len(&self) -> usize {
         match self {
             FilmGeometry::Splats(g) => g.len(),
+            FilmGeometry::Mls(g) => g.len(),
         }
     }
 
@@ -55,6 +61,7 @@ impl FilmGeometry {
     pub fn memory_bytes(&self) -> usize {
         match self {
             FilmGeometry::Splats(g) => g.memory_bytes(),
+            FilmGeometry::Mls(g) => g.memory_bytes(),
         }
     }
 }
@@ -64,6 +71,7 @@ impl fmt::Display for FilmGeometry {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             FilmGeometry::Splats(g) => write!(f, "{}", g.primitive()),
+            FilmGeometry::Mls(_) => f.write_str("mls"),
         }
     }
 }
@@ -71,5 +79,11 @@ impl fmt::Display for FilmGeometry {
 impl From<SplatGeometry> for FilmGeometry {
     fn from(g: SplatGeometry) -> Self {
         FilmGeometry::Splats(g)
+    }
+}
+
+impl From<MlsSurface> for FilmGeometry {
+    fn from(g: MlsSurface) -> Self {
+        FilmGeometry::Mls(g)
     }
 }

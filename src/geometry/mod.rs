@@ -8,6 +8,7 @@
 //! * [`primitives`]: ray–disk and ray–sphere tests and primitive bounds.
 //! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
 //! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
+//! * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced directly.
 //! * [`FilmGeometry`]: the closed set of film geometries the renderer goes through.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
 
@@ -17,6 +18,7 @@ mod bvh;
 mod bvh_build;
 mod disk4;
 mod film;
+mod mls;
 pub mod primitives;
 mod query;
 mod splat;
@@ -31,6 +33,7 @@ pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{Bvh, BvhNode, BvhParams};
 pub use film::FilmGeometry;
+pub use mls::{MlsParams, MlsSurface};
 pub use splat::{SplatGeometry, SurfaceHit};
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`
@@ -73,18 +76,22 @@ pub enum Primitive {
     Disk,
     /// A sphere around the particle centre (normals are not needed).
     Sphere,
+    /// The smooth moving-least-squares surface the particles sample (see [`MlsSurface`]);
+    /// needs normals.
+    Mls,
 }
 
 impl FromStr for Primitive {
     type Err = crate::Error;
 
-    /// Parses `"disk"` or `"sphere"` (case-insensitive).
+    /// Parses `"disk"`, `"sphere"` or `"mls"` (case-insensitive).
     fn from_str(s: &str) -> crate::Result<Self> {
         match s.trim().to_ascii_lowercase().as_str() {
             "disk" => Ok(Primitive::Disk),
             "sphere" => Ok(Primitive::Sphere),
+            "mls" => Ok(Primitive::Mls),
             _ => Err(crate::Error::invalid(format!(
-                "unknown primitive '{s}' (expected 'disk' or 'sphere')"
+                "unknown primitive '{s}' (expected 'disk', 'sphere' or 'mls')"
             ))),
         }
     }
@@ -95,6 +102,7 @@ impl fmt::Display for Primitive {
         f.write_str(match self {
             Primitive::Disk => "disk",
             Primitive::Sphere => "sphere",
+            Primitive::Mls => "mls",
         })
     }
 }
@@ -105,10 +113,11 @@ mod tests {
 
     #[test]
     fn primitive_parses_and_prints() {
-        for p in [Primitive::Disk, Primitive::Sphere] {
+        for p in [Primitive::Disk, Primitive::Sphere, Primitive::Mls] {
             assert_eq!(p.to_string().parse::<Primitive>().unwrap(), p);
         }
         assert_eq!("Sphere".parse::<Primitive>().unwrap(), Primitive::Sphere);
+        assert_eq!(" MLS ".parse::<Primitive>().unwrap(), Primitive::Mls);
         assert!("cube".parse::<Primitive>().is_err());
     }
 

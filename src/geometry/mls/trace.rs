@@ -1,0 +1,268 @@
+//! Ray–MLS-surface intersection: support intervals from the BVH, a distance-guided march with a
+//! grazing check, and bracketed refinement (see the parent module's docs).
+
+use std::cell::RefCell;
+
+use super::field::{self, Cand};
+use super::{MIN_COHERENCE, MlsSurface};
+use crate::geometry::primitives::sphere_roots;
+use crate::geometry::{Ray, SurfaceHit};
+
+/// Smallest march step, particle radii (near the surface, where |f| is small).
+const MIN_STEP: f32 = 0.05;
+/// Largest march step, particle radii.
+const MAX_STEP: f32 = 0.5;
+/// Steps are this fraction of |f| between the two bounds (f is about a distance).
+const STEP_OF_F: f32 = 0.5;
+/// A crossing is refined until its bracket is narrower than this many particle radii.
+const TOLERANCE: f32 = 1e-3;
+/// Upper bound on march steps per interval (a guard; ordinary intervals take tens).
+const MAX_MARCH: usize = 1 << 16;
+/// Upper bound on refinement iterations (two per halving of the bracket at worst).
+const MAX_REFINE: usize = 64;
+
+thread_local! {
+    /// The support spheres along the current ray (reused between queries).
+    static CANDS: RefCell<Vec<Cand>> = const { RefCell::new(Vec::new()) };
+}
+
+/// A sample of f along the ray: (t, f).
+type Sample = (f32, f32);
+
+impl MlsSurface {
+    /// The first crossing of the surface with `t_min < t < t_max`. `t_exit` is the far end of the
+    /// final bracket (at most 10⁻³ radii beyond `t`), so a ray continued from
+    /// `t_exit + eps` never finds the same crossing again. Cost: one BVH traversal collecting the
+    /// support spheres the ray crosses, then ~10 evaluations of f per support interval up to the
+    /// hit and ~5–10 more to refine it, each over the spheres covering that point.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
+        if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
+            return None;
+        }
+        CANDS.with_borrow_mut(|cands| {
+            cands.clear();
+            self.bvh.visit_segment(ray, t_min, t_max, |s| {
+                let q = &self.particles[s as usize];
+                if let Some((t0, t1)) = sphere_roots(ray, q.p, q.h) {
+                    let (ta, tb) = (t0.max(t_min), t1.min(t_max));
+                    if ta < tb {
+                        cands.push(self.cand(s, ta, tb));
+                    }
+                }
+            });
+            cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+            // March the union of the support intervals, one connected piece at a time.
+            let mut i = 0;
+            while i < cands.len() {
+                let (s0, mut s1, mut r) = (cands[i].ta, cands[i].tb, cands[i].r);
+                let mut j = i + 1;
+                while j < cands.len() && cands[j].ta <= s1 {
+                    s1 = s1.max(cands[j].tb);
+                    r = r.min(cands[j].r);
+                    j += 1;
+                }
+                if let Some(hit) = self.march(ray, &cands[i..j], s0, s1, r) {
+                    return Some(hit);
+                }
+                i = j;
+            }
+            None
+        })
+    }
+
+    /// True if the surface is crossed with `t_min < t < t_max` (as [`MlsSurface::intersect`]).
+    pub fn intersect_any(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.intersect(ray, t_min, t_max).is_some()
+    }
+
+    /// The first valid crossing in the support interval `[s0, s1]` covered by `cands`, whose
+    /// smallest particle radius is `r`.
+    fn march(&self, ray: &Ray, cands: &[Cand], s0: f32, s1: f32, r: f32) -> Option<SurfaceHit> {
+        let (min_step, max_step) = (MIN_STEP * r, MAX_STEP * r);
+        // Below ~8 ulps of the coordinates the bracket cannot shrink further.
+        let scale = ray.origin.abs().max_element() + s1.abs();
+        let tol = (TOLERANCE * r).max(8.0 * f32::EPSILON * scale);
+        let min_step = min_step.max(2.0 * tol);
+        let f_at = |t: f32| field::value(cands, ray.at(t), t);
+        let (mut prev, mut prev2): (Option<Sample>, Option<Sample>) = (None, None);
+        let mut t = s0;
+        for _ in 0..MAX_MARCH {
+            let step = match f_at(t) {
+                Some(f) => {
+                    let cur = (t, f);
+                    if let Some(p) = prev {
+                        if let Some(p2) = prev2
+                            && let Some(hit) = self.grazing(ray, cands, p2, p, cur, max_step, tol)
+                        {
+                            return Some(hit);
+                        }
+                        if (p.1 < 0.0) != (f < 0.0)
+                            && let Some(hit) = self.crossing(ray, cands, p, cur, tol)
+                        {
+                            return Some(hit);
+                        }
+                    }
+                    (prev2, prev) = (prev, Some(cur));
+                    (STEP_OF_F * f.abs()).clamp(min_step, max_step)
+                }
+                None => {
+                    (prev2, prev) = (None, None);
+                    min_step
+                }
+            };
+            if t >= s1 {
+                break;
+            }
+            t = (t + step).min(s1);
+        }
+        None
+    }
+
+    /// Three samples of one sign whose middle one is the smallest in |f| and near the surface may
+    /// hide two crossings between them (a ray grazing the surface): check f at the vertex of the
+    /// parabola through them, and if its sign differs, refine both crossings.
+    #[allow(clippy::too_many_arguments)]
+    fn grazing(
+        &self,
+        ray: &Ray,
+        cands: &[Cand],
+        a: Sample,
+        b: Sample,
+        c: Sample,
+        near: f32,
+        tol: f32,
+    ) -> Option<SurfaceHit> {
+        let neg = b.1 < 0.0;
+        if (a.1 < 0.0) != neg || (c.1 < 0.0) != neg {
+            return None;
+        }
+        let (fa, fb, fc) = (a.1.abs(), b.1.abs(), c.1.abs());
+        if !(fb < fa && fb <= fc && fb < near) {
+            return None;
+        }
+        // Vertex of the parabola through the three points (|f| is smallest in the middle, so
+        // the parabola opens upwards).
+        let tv = b.0 + vertex_offset(a.0 - b.0, c.0 - b.0, fa - fb, fc - fb);
+        if !(tv > a.0 && tv < c.0) || (tv - b.0).abs() < tol {
+            return None;
+        }
+        let fv = field::value(cands, ray.at(tv), tv)?;
+        if (fv < 0.0) == neg {
+            return None;
+        }
+        let v = (tv, fv);
+        let (first, second) = if tv < b.0 {
+            ((a, v), (v, b))
+        } else {
+            ((b, v), (v, c))
+        };
+        self.crossing(ray, cands, first.0, first.1, tol)
+            .or_else(|| self.crossing(ray, cands, second.0, second.1, tol))
+    }
+
+    /// Refines the crossing bracketed by `lo` and `hi` (f of opposite signs, `lo.0 < hi.0`) and
+    /// returns it if it is film (enough weight, agreeing normals).
+    fn crossing(
+        &self,
+        ray: &Ray,
+        cands: &[Cand],
+        lo: Sample,
+        hi: Sample,
+        tol: f32,
+    ) -> Option<SurfaceHit> {
+        let (t, t_exit) = refine(|t| field::value(cands, ray.at(t), t), lo, hi, tol)?;
+        let x = ray.at(t);
+        let s = field::sample(cands, x, t)?;
+        if s.weight < self.weight_threshold || s.coherence < MIN_COHERENCE {
+            return None;
+        }
+        let normal = s
+            .grad
+            .try_normalize()
+            .or_else(|| (s.coherence > 0.0).then_some(s.grad))?;
+        Some(SurfaceHit {
+            t,
+            t_exit,
+            position: x,
+            normal,
+            thickness_nm: s.thickness,
+            coverage: s.coverage,
+            particle: self.bvh.order()[s.best_slot as usize],
+        })
+    }
+}
+
+/// Offset from the middle abscissa to the vertex of the parabola through (da, ya), (0, 0) and
+/// (dc, yc).
+fn vertex_offset(da: f32, dc: f32, ya: f32, yc: f32) -> f32 {
+    // y = α x² + β x; α = (ya/da − yc/dc)/(da − dc), β = ya/da − α da; vertex at −β/(2α).
+    let alpha = (ya / da - yc / dc) / (da - dc);
+    let beta = ya / da - alpha * da;
+    -beta / (2.0 * alpha)
+}
+
+/// Bracketed root of `f` between `lo` and `hi` (opposite signs): Illinois regula falsi with a
+/// bisection whenever a step did not halve the bracket. Returns (root estimate, far end of the
+/// final bracket), or `None` if f cannot be evaluated inside the bracket.
+fn refine(f: impl Fn(f32) -> Option<f32>, lo: Sample, hi: Sample, tol: f32) -> Option<(f32, f32)> {
+    let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
+    // Illinois-scaled copies of fa, fb used for the secant.
+    let (mut ga, mut gb) = (fa, fb);
+    let mut side = 0i8;
+    let mut bisect = false;
+    for _ in 0..MAX_REFINE {
+        let width = b - a;
+        if width <= tol {
+            break;
+        }
+        let secant = a - ga * width / (gb - ga);
+        let c = if bisect || !(secant > a && secant < b) {
+            0.5 * (a + b)
+        } else {
+            secant
+        };
+        let fc = f(c)?;
+        if fc == 0.0 {
+            return Some((c, c));
+        }
+        if (fc < 0.0) == (fa < 0.0) {
+            (a, fa, ga) = (c, fc, fc);
+            if side == -1 {
+                gb *= 0.5;
+            }
+            side = -1;
+        } else {
+            (b, fb, gb) = (c, fc, fc);
+            if side == 1 {
+                ga *= 0.5;
+            }
+            side = 1;
+        }
+        bisect = b - a > 0.5 * width;
+    }
+    let t = (a - fa * (b - a) / (fb - fa)).clamp(a, b);
+    Some((if t.is_finite() { t } else { 0.5 * (a + b) }, b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refine_finds_roots_to_tolerance() {
+        for (root, k) in [(0.3f32, 1.0f32), (0.71, 8.0), (0.05, 0.01)] {
+            let f = |t: f32| Some(k * (t - root) * (1.0 + 3.0 * (t - root).powi(2)));
+            let (t, te) = refine(f, (0.0, f(0.0).unwrap()), (1.0, f(1.0).unwrap()), 1e-5).unwrap();
+            assert!((t - root).abs() < 1e-5, "{t} vs {root}");
+            assert!(te >= root && te - t < 1e-5 + 1e-7);
+        }
+    }
+
+    #[test]
+    fn parabola_vertex() {
+        // y = (x − 0.3)² − 0.09 through x = −1, 0, 2.
+        let y = |x: f32| (x - 0.3) * (x - 0.3) - 0.09;
+        let v = vertex_offset(-1.0, 2.0, y(-1.0), y(2.0));
+        assert!((v - 0.3).abs() < 1e-5, "{v}");
+    }
+}
