@@ -11,9 +11,9 @@ use crate::geometry::{Ray, SurfaceHit};
 /// Smallest march step, particle radii (near the surface, where |f| is small).
 const MIN_STEP: f32 = 0.05;
 /// Largest march step, particle radii.
-const MAX_STEP: f32 = 0.5;
+const MAX_STEP: f32 = 1.0;
 /// Steps are this fraction of |f| between the two bounds (f is about a distance).
-const STEP_OF_F: f32 = 0.5;
+const STEP_OF_F: f32 = 0.9;
 /// A crossing is refined until its bracket is narrower than this many particle radii.
 const TOLERANCE: f32 = 1e-3;
 /// Upper bound on march steps per interval (a guard; ordinary intervals take tens).
