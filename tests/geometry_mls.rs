@@ -92,7 +92,7 @@ fn grazing_rays_cross_twice_or_not_at_all() {
         } else if rho > 1.0 + 0.1 * d {
             assert!(hits.is_empty(), "ρ = 1 + {} d: {hits:?}", (rho - 1.0) / d);
         } else {
-            assert!(hits.len() % 2 == 0, "ρ = {rho}: {hits:?}");
+            assert!(hits.len().is_multiple_of(2), "ρ = {rho}: {hits:?}");
         }
         for h in &hits {
             assert!((h.position.length() - 1.0).abs() < 0.05 * d, "{h:?}");

@@ -311,7 +311,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {
         scene: Scene {
-            geometry: geometry.into(),
+            geometry,
             camera,
             environment,
             layer_skip,
