@@ -16,6 +16,9 @@ const MAX_STEP: f32 = 1.0;
 const STEP_OF_F: f32 = 0.9;
 /// A crossing is refined until its bracket is narrower than this many particle radii.
 const TOLERANCE: f32 = 1e-3;
+/// The first gathering pass collects the support spheres entered within this many support
+/// radii of the first one: enough for a film crossed at up to ~70° from its normal.
+const WINDOW: f32 = 6.0;
 /// Upper bound on march steps per interval (a guard; ordinary intervals take tens).
 const MAX_MARCH: usize = 1 << 16;
 /// Upper bound on refinement iterations (two per halving of the bracket at worst).
@@ -32,42 +35,89 @@ type Sample = (f32, f32);
 impl MlsSurface {
     /// The first crossing of the surface with `t_min < t < t_max`. `t_exit` is the far end of the
     /// final bracket (at most 10⁻³ radii beyond `t`), so a ray continued from
-    /// `t_exit + eps` never finds the same crossing again. Cost: one BVH traversal collecting the
-    /// support spheres the ray crosses, then ~10 evaluations of f per support interval up to the
-    /// hit and ~5–10 more to refine it, each over the spheres covering that point.
+    /// `t_exit + eps` never finds the same crossing again. Cost: one near-first BVH traversal
+    /// collecting the support spheres the ray crosses within [`WINDOW`] support radii of the
+    /// first one (all of them only when the first crossing lies beyond), then ~10 evaluations
+    /// of f per support interval up to the hit and ~5 more to refine it, each over the spheres
+    /// covering that point.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
         CANDS.with_borrow_mut(|cands| {
-            cands.clear();
-            self.bvh.visit_segment(ray, t_min, t_max, |s| {
-                let q = &self.particles[s as usize];
-                if let Some((t0, t1)) = sphere_roots(ray, q.p, q.h) {
-                    let (ta, tb) = (t0.max(t_min), t1.min(t_max));
-                    if ta < tb {
-                        cands.push(self.cand(s, ta, tb));
+            let mut from = t_min;
+            loop {
+                // Every sphere entered before `window` is visited (nodes are culled only beyond
+                // the shrinking bound), so support intervals ending before it are complete, and
+                // nothing covers `window` itself once they all have ended.
+                cands.clear();
+                let mut window = t_max;
+                self.bvh.closest(ray, from, t_max, |s, bound| {
+                    if let Some(c) = self.clipped(ray, s, from, t_max)
+                        && c.ta <= *bound
+                    {
+                        let end = c.ta + WINDOW * self.particles[s as usize].h;
+                        window = window.min(end);
+                        *bound = bound.min(end);
+                        cands.push(c);
+                    }
+                });
+                cands.retain(|c| c.ta <= window);
+                match self.march_all(ray, cands, window) {
+                    Ok(Some(hit)) => return Some(hit),
+                    Ok(None) if window < t_max && window > from => from = window,
+                    Ok(None) => return None,
+                    Err(start) => {
+                        // An interval runs on past the window: collect everything from its start.
+                        cands.clear();
+                        self.bvh.visit_segment(ray, start, t_max, |s| {
+                            cands.extend(self.clipped(ray, s, start, t_max));
+                        });
+                        return self.march_all(ray, cands, t_max).ok().flatten();
                     }
                 }
-            });
-            cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
-            // March the union of the support intervals, one connected piece at a time.
-            let mut i = 0;
-            while i < cands.len() {
-                let (s0, mut s1, mut r) = (cands[i].ta, cands[i].tb, cands[i].r);
-                let mut j = i + 1;
-                while j < cands.len() && cands[j].ta <= s1 {
-                    s1 = s1.max(cands[j].tb);
-                    r = r.min(cands[j].r);
-                    j += 1;
-                }
-                if let Some(hit) = self.march(ray, &cands[i..j], s0, s1, r) {
-                    return Some(hit);
-                }
-                i = j;
             }
-            None
         })
+    }
+
+    /// The candidate record of the sphere in `slot` if the ray is inside it somewhere in
+    /// `(t_min, t_max)`.
+    #[inline]
+    fn clipped(&self, ray: &Ray, slot: u32, t_min: f32, t_max: f32) -> Option<Cand> {
+        let q = &self.particles[slot as usize];
+        let (t0, t1) = sphere_roots(ray, q.p, q.h)?;
+        let (ta, tb) = (t0.max(t_min), t1.min(t_max));
+        (ta < tb).then(|| self.cand(slot, ta, tb))
+    }
+
+    /// Sorts `cands` and marches the union of their support intervals, one connected piece at a
+    /// time, returning the first valid crossing. Only intervals ending by `complete` are known
+    /// to hold all their spheres: reaching one that does not gives `Err(its start)`.
+    fn march_all(
+        &self,
+        ray: &Ray,
+        cands: &mut [Cand],
+        complete: f32,
+    ) -> Result<Option<SurfaceHit>, f32> {
+        cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+        let mut i = 0;
+        while i < cands.len() {
+            let (s0, mut s1, mut r) = (cands[i].ta, cands[i].tb, cands[i].r);
+            let mut j = i + 1;
+            while j < cands.len() && cands[j].ta <= s1 {
+                s1 = s1.max(cands[j].tb);
+                r = r.min(cands[j].r);
+                j += 1;
+            }
+            if s1 > complete {
+                return Err(s0);
+            }
+            if let Some(hit) = self.march(ray, &cands[i..j], s0, s1, r) {
+                return Ok(Some(hit));
+            }
+            i = j;
+        }
+        Ok(None)
     }
 
     /// True if the surface is crossed with `t_min < t < t_max` (as [`MlsSurface::intersect`]).
