@@ -11,8 +11,9 @@
 //!   open edge of a film stays where its particles end, holes stay open and sparse stray
 //!   particles do not grow a surface.
 //! * **Rays** (Adamson & Alexa 2003, "Ray tracing point set surfaces"): the surface lies inside
-//!   the union of the support spheres. One BVH query collects the spheres the ray crosses; they
-//!   are merged into intervals of the ray, and each interval is marched with steps of ½|f|
+//!   the union of the support spheres. A near-first BVH query collects the spheres the ray
+//!   crosses within a few support radii of the first one (more only if needed); they are
+//!   merged into intervals of the ray, and each interval is marched with steps of ½|f|
 //!   (f is distance-like) bounded to 0.05–0.5 particle radii, a sign change is refined by
 //!   bracketed Illinois regula falsi to 10⁻³ radii, and a local minimum of |f| between samples is
 //!   checked for a grazing double crossing (so grazing rays do not tunnel).
