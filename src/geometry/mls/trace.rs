@@ -297,6 +297,7 @@ fn refine(f: impl Fn(f32) -> Option<f32>, lo: Sample, hi: Sample, tol: f32) -> O
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     #[test]
     fn refine_finds_roots_to_tolerance() {
@@ -306,6 +307,66 @@ mod tests {
             assert!((t - root).abs() < 1e-5, "{t} vs {root}");
             assert!(te >= root && te - t < 1e-5 + 1e-7);
         }
+    }
+
+    /// A ray dipping just inside a sphere of particles crosses it twice within a fraction of a
+    /// spacing; three samples that straddle the dip, all outside, must still find the crossing.
+    #[test]
+    fn grazing_check_finds_a_dip_between_samples() {
+        let n = 4000;
+        let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+        let pos: Vec<Vec3> = (0..n)
+            .map(|i| {
+                let z = 1.0 - (2 * i + 1) as f32 / n as f32;
+                let (rr, a) = ((1.0 - z * z).sqrt(), golden * i as f32);
+                Vec3::new(rr * a.cos(), rr * a.sin(), z)
+            })
+            .collect();
+        let d = (8.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
+        let s = MlsSurface::build(&pos, &pos, &vec![0.92 * d; n], &vec![100.0; n]).unwrap();
+        // Step the ray y = ρ, z = 0.2 outwards until it dips into the surface for 0.2–1 d.
+        let f_of = |ray: &Ray, cands: &[Cand], t: f32| field::value(cands, ray.at(t), t);
+        let mut cands = Vec::new();
+        let (mut found, mut rho) = (false, 0.97f32);
+        while rho < 0.99 && !found {
+            let ray = Ray::new(Vec3::new(-3.0, rho, 0.2), Vec3::X);
+            cands.clear();
+            cands.extend((0..n as u32).filter_map(|k| s.clipped(&ray, k, 0.0, 10.0)));
+            cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+            let fine: Vec<(f32, f32)> = (0..(1.0 / (5e-3 * d)) as usize)
+                .map(|k| 2.5 + k as f32 * 5e-3 * d)
+                .filter_map(|t| f_of(&ray, &cands, t).map(|f| (t, f)))
+                .collect();
+            let inside: Vec<f32> = fine.iter().filter(|p| p.1 < 0.0).map(|p| p.0).collect();
+            if let (Some(&t1), Some(&t2)) = (inside.first(), inside.last())
+                && t2 - t1 < d
+                && t2 - t1 > 0.2 * d
+            {
+                found = true;
+                let sample = |t: f32| (t, f_of(&ray, &cands, t).unwrap());
+                let (a, b, c) = (
+                    sample(t1 - 0.6 * d),
+                    sample(t1 - 0.01 * d),
+                    sample(t2 + 0.2 * d),
+                );
+                assert!(a.1 > b.1 && c.1 >= b.1 && b.1 > 0.0, "{a:?} {b:?} {c:?}");
+                let hit = s
+                    .grazing(&ray, &cands, a, b, c, 0.5 * d, 1e-4 * d)
+                    .expect("the dip between the samples is found");
+                assert!((hit.t - t1).abs() < 0.02 * d, "{} vs {t1}", hit.t);
+                // Without the dip (a ray 0.2 d further out) nothing is found.
+                let ray2 = Ray::new(Vec3::new(-3.0, rho + 0.2 * d, 0.2), Vec3::X);
+                let mut c2: Vec<Cand> = (0..n as u32)
+                    .filter_map(|k| s.clipped(&ray2, k, 0.0, 10.0))
+                    .collect();
+                c2.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+                let sample2 = |t: f32| (t, f_of(&ray2, &c2, t).unwrap());
+                let (a, b, c) = (sample2(a.0), sample2(0.5 * (t1 + t2)), sample2(c.0));
+                assert!(s.grazing(&ray2, &c2, a, b, c, 0.5 * d, 1e-4 * d).is_none());
+            }
+            rho += 1e-3 * d;
+        }
+        assert!(found, "no ray with a short dip");
     }
 
     #[test]
