@@ -66,7 +66,7 @@ fn main() {
     let shader = FilmShader::new(1.33, ShadingMode::Lut, 16, WavelengthStrategy::Jittered);
     for prim in [Primitive::Disk, Primitive::Sphere] {
         let radii: Vec<f32> = match prim {
-            Primitive::Disk => cloud.radius.clone().unwrap(),
+            Primitive::Disk | Primitive::Mls => cloud.radius.clone().unwrap(),
             Primitive::Sphere => cloud
                 .radius
                 .as_ref()

@@ -29,7 +29,7 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
     let (code, out, err) = filmsplat(&["info", ply.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("3000") && out.contains("thickness"), "{out}");
-    for prim in ["disk", "sphere"] {
+    for prim in ["disk", "sphere", "mls"] {
         let png = tmp(&format!("bubble-{prim}.png"));
         let exr = tmp(&format!("bubble-{prim}.exr"));
         let (code, out, err) = filmsplat(&[
@@ -74,7 +74,7 @@ fn real_sph_files_render() {
         "splishsplash_sphere_shell.ply",
         "double_dam_break_frame_26.ply",
     ] {
-        for prim in ["disk", "sphere"] {
+        for prim in ["disk", "sphere", "mls"] {
             let png = tmp(&format!("{file}-{prim}.png"));
             let (code, _, err) = filmsplat(&[
                 "render",

@@ -39,6 +39,7 @@ impl Scene {
                 Primitive::Sphere => {
                     intersect_sphere(ray, self.pos[i], self.rad[i], t_min, t_max).map(|t| (t, 0.0))
                 }
+                Primitive::Mls => unreachable!("splat scenes only"),
             };
             if let Some((t, d2)) = h
                 && best.is_none_or(|b| t < b.0)

@@ -24,7 +24,8 @@ pub struct RenderArgs {
     /// Also write the linear EXR with all layers to this path.
     #[arg(long)]
     pub(super) exr: Option<PathBuf>,
-    /// How particles are drawn: disk (oriented splats, blended into one film) or sphere.
+    /// How particles are drawn: disk (oriented splats, blended into one film), sphere, or mls
+    /// (the smooth moving-least-squares surface through the particles).
     #[arg(long)]
     pub(super) primitive: Option<String>,
     /// Settings preset: preview (1 spp, 4 crossings), balanced (the default: 4 spp, 12

@@ -186,6 +186,34 @@ impl Bvh {
         });
     }
 
+    /// Calls `visit(slot)` for every primitive whose box contains the point `p` (boundary
+    /// included). Walks the binary tree; cost O(log n) plus the boxes that contain `p`.
+    pub fn visit_point<F: FnMut(u32)>(&self, p: Vec3, mut visit: F) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = [0u32; STACK_SIZE];
+        let mut sp = 0;
+        let mut i = 0usize;
+        loop {
+            let node = &self.nodes[i];
+            if node.bounds().contains(p) {
+                if !node.is_leaf() {
+                    stack[sp] = node.offset;
+                    sp += 1;
+                    i += 1;
+                    continue;
+                }
+                (node.offset..node.offset + node.count).for_each(&mut visit);
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            i = stack[sp] as usize;
+        }
+    }
+
     /// The traversal loop (over the 4-wide tree, see the `wide` module). `leaf(first, count,
     /// &mut t_max)` returns `true` to stop; the loop then returns `true`.
     #[inline(always)]

@@ -1,9 +1,9 @@
 //! [`FilmGeometry`]: the one interface the renderer queries for film crossings, whatever draws
-//! the film (splats today; further geometries add a variant here).
+//! the film (splats or the MLS surface; further geometries add a variant here).
 
 use std::fmt;
 
-use super::{Aabb, MeshGeometry, Ray, SplatGeometry, SurfaceHit};
+use super::{Aabb, MeshGeometry, MlsSurface, Ray, SplatGeometry, SurfaceHit};
 
 /// The films of a scene. A closed set of geometries dispatched by `match` (no virtual calls).
 /// Every variant answers the same three questions: the first crossing along a ray, whether there
@@ -14,6 +14,8 @@ pub enum FilmGeometry {
     Splats(SplatGeometry),
     /// A triangle mesh (e.g. a meshed pipeline's surface), smooth-shaded.
     Mesh(MeshGeometry),
+    /// The smooth moving-least-squares surface of the particles.
+    Mls(MlsSurface),
 }
 
 impl FilmGeometry {
@@ -24,6 +26,7 @@ impl FilmGeometry {
         match self {
             FilmGeometry::Splats(g) => g.intersect(ray, t_min, t_max),
             FilmGeometry::Mesh(g) => g.intersect(ray, t_min, t_max),
+            FilmGeometry::Mls(g) => g.intersect(ray, t_min, t_max),
         }
     }
 
@@ -33,6 +36,7 @@ impl FilmGeometry {
         match self {
             FilmGeometry::Splats(g) => g.intersect_any(ray, t_min, t_max),
             FilmGeometry::Mesh(g) => g.intersect_any(ray, t_min, t_max),
+            FilmGeometry::Mls(g) => g.intersect_any(ray, t_min, t_max),
         }
     }
 
@@ -41,6 +45,7 @@ impl FilmGeometry {
         match self {
             FilmGeometry::Splats(g) => g.bounds(),
             FilmGeometry::Mesh(g) => g.bounds(),
+            FilmGeometry::Mls(g) => g.bounds(),
         }
     }
 
@@ -49,6 +54,7 @@ impl FilmGeometry {
         match self {
             FilmGeometry::Splats(g) => g.len(),
             FilmGeometry::Mesh(g) => g.len(),
+            FilmGeometry::Mls(g) => g.len(),
         }
     }
 
@@ -62,6 +68,7 @@ impl FilmGeometry {
         match self {
             FilmGeometry::Splats(g) => g.memory_bytes(),
             FilmGeometry::Mesh(g) => g.memory_bytes(),
+            FilmGeometry::Mls(g) => g.memory_bytes(),
         }
     }
 }
@@ -72,6 +79,7 @@ impl fmt::Display for FilmGeometry {
         match self {
             FilmGeometry::Splats(g) => write!(f, "{}", g.primitive()),
             FilmGeometry::Mesh(_) => f.write_str("mesh"),
+            FilmGeometry::Mls(_) => f.write_str("mls"),
         }
     }
 }
@@ -85,5 +93,11 @@ impl From<SplatGeometry> for FilmGeometry {
 impl From<MeshGeometry> for FilmGeometry {
     fn from(g: MeshGeometry) -> Self {
         FilmGeometry::Mesh(g)
+    }
+}
+
+impl From<MlsSurface> for FilmGeometry {
+    fn from(g: MlsSurface) -> Self {
+        FilmGeometry::Mls(g)
     }
 }

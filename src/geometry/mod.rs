@@ -9,6 +9,7 @@
 //! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
 //! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
 //! * [`MeshGeometry`]: a triangle mesh drawn as a film (for comparisons with meshed renders).
+//! * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced directly.
 //! * [`FilmGeometry`]: the closed set of film geometries the renderer goes through.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
 //! * [`props`]: opaque staging shapes (plane, sphere, box, cylinder, torus).
@@ -20,6 +21,7 @@ mod bvh_build;
 mod disk4;
 mod film;
 pub mod mesh;
+mod mls;
 pub mod primitives;
 pub mod props;
 mod query;
@@ -37,6 +39,7 @@ pub use bvh::{Bvh, BvhNode, BvhParams};
 pub use film::FilmGeometry;
 pub use mesh::{MeshGeometry, MeshSides};
 pub use props::{Mesh, PropHit, Props, Shape};
+pub use mls::{MlsParams, MlsSurface};
 pub use splat::{SplatGeometry, SurfaceHit};
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`
@@ -79,18 +82,22 @@ pub enum Primitive {
     Disk,
     /// A sphere around the particle centre (normals are not needed).
     Sphere,
+    /// The smooth moving-least-squares surface the particles sample (see [`MlsSurface`]);
+    /// needs normals.
+    Mls,
 }
 
 impl FromStr for Primitive {
     type Err = crate::Error;
 
-    /// Parses `"disk"` or `"sphere"` (case-insensitive).
+    /// Parses `"disk"`, `"sphere"` or `"mls"` (case-insensitive).
     fn from_str(s: &str) -> crate::Result<Self> {
         match s.trim().to_ascii_lowercase().as_str() {
             "disk" => Ok(Primitive::Disk),
             "sphere" => Ok(Primitive::Sphere),
+            "mls" => Ok(Primitive::Mls),
             _ => Err(crate::Error::invalid(format!(
-                "unknown primitive '{s}' (expected 'disk' or 'sphere')"
+                "unknown primitive '{s}' (expected 'disk', 'sphere' or 'mls')"
             ))),
         }
     }
@@ -101,6 +108,7 @@ impl fmt::Display for Primitive {
         f.write_str(match self {
             Primitive::Disk => "disk",
             Primitive::Sphere => "sphere",
+            Primitive::Mls => "mls",
         })
     }
 }
@@ -111,10 +119,11 @@ mod tests {
 
     #[test]
     fn primitive_parses_and_prints() {
-        for p in [Primitive::Disk, Primitive::Sphere] {
+        for p in [Primitive::Disk, Primitive::Sphere, Primitive::Mls] {
             assert_eq!(p.to_string().parse::<Primitive>().unwrap(), p);
         }
         assert_eq!("Sphere".parse::<Primitive>().unwrap(), Primitive::Sphere);
+        assert_eq!(" MLS ".parse::<Primitive>().unwrap(), Primitive::Mls);
         assert!("cube".parse::<Primitive>().is_err());
     }
 

@@ -15,16 +15,19 @@ pub struct SurfaceHit {
     pub t: f32,
     /// Continue rays from just beyond this distance: the farthest splat hit of the blended layer
     /// for disks (`== t` unblended); for spheres the far side of the sphere, since a sphere
-    /// is drawn as one film crossing.
+    /// is drawn as one film crossing; for the MLS surface the far end of the refined bracket
+    /// (within 10⁻³ particle radii of `t`).
     pub t_exit: f32,
     /// The crossing point, `ray.at(t)`.
     pub position: Vec3,
     /// Unit film normal: blended over the layer for disks (oriented like the closest disk's
     /// normal), the outward normal for spheres. Not flipped toward the ray.
     pub normal: Vec3,
-    /// Film thickness in nanometres (kernel-weighted mean over the layer for disks).
+    /// Film thickness in nanometres (kernel-weighted mean over the layer for disks, MLS-weighted
+    /// mean for the MLS surface).
     pub thickness_nm: f32,
-    /// Number of splats blended into this crossing (1 for spheres).
+    /// Number of splats blended into this crossing (1 for spheres; for the MLS surface the
+    /// particles whose weight reaches the crossing).
     pub coverage: u32,
     /// Index (into the build input) of the particle with the largest weight.
     pub particle: u32,
@@ -88,6 +91,67 @@ fn first_bad(n: usize, bad: impl Fn(usize) -> bool + Sync) -> Option<usize> {
         .find_first(|&i| bad(i))
 }
 
+/// Checks the particle arrays every film geometry is built from: one entry per particle in each
+/// slice (`normals` may be empty unless `need_normals`), finite positions, finite positive radii,
+/// finite non-negative thickness, and usable normals when needed. Errors name the offending
+/// array and particle.
+pub(super) fn check_particles(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    radii: &[f32],
+    thickness_nm: &[f32],
+    need_normals: bool,
+) -> Result<()> {
+    let n = positions.len();
+    let check_len = |name: &str, len: usize| {
+        if len == n {
+            Ok(())
+        } else {
+            Err(Error::invalid(format!(
+                "geometry: {name} has {len} entries but positions has {n}"
+            )))
+        }
+    };
+    check_len("radii", radii.len())?;
+    check_len("thickness", thickness_nm.len())?;
+    if need_normals || !normals.is_empty() {
+        check_len("normals", normals.len())?;
+    }
+    if n >= u32::MAX as usize {
+        return Err(Error::invalid(format!(
+            "geometry: {n} particles is more than the supported {}",
+            u32::MAX - 1
+        )));
+    }
+    let bad = |what: &str, i: usize, v: String| {
+        Err(Error::invalid(format!(
+            "geometry: particle {i} has {what} {v}"
+        )))
+    };
+    if let Some(i) = first_bad(n, |i| !positions[i].is_finite()) {
+        return bad("a non-finite position", i, format!("{}", positions[i]));
+    }
+    if let Some(i) = first_bad(n, |i| !(radii[i] > 0.0 && radii[i].is_finite())) {
+        return bad(
+            "an invalid radius",
+            i,
+            format!("{} (must be > 0)", radii[i]),
+        );
+    }
+    if let Some(i) = first_bad(n, |i| {
+        !(thickness_nm[i] >= 0.0 && thickness_nm[i].is_finite())
+    }) {
+        return bad("an invalid thickness", i, format!("{} nm", thickness_nm[i]));
+    }
+    if need_normals {
+        let ok = |v: Vec3| v.is_finite() && v.length_squared() > 1e-12;
+        if let Some(i) = first_bad(n, |i| !ok(normals[i])) {
+            return bad("an unusable normal", i, format!("{}", normals[i]));
+        }
+    }
+    Ok(())
+}
+
 impl SplatGeometry {
     /// Builds the scene. All slices have one entry per particle; `normals` (unit length; other
     /// non-zero lengths are normalised) are required for disks and may be empty for spheres.
@@ -120,55 +184,19 @@ impl SplatGeometry {
         thickness_nm: &[f32],
         params: BvhParams,
     ) -> Result<Self> {
+        if primitive == Primitive::Mls {
+            return Err(Error::invalid(
+                "geometry: the 'mls' primitive is built by MlsSurface, not SplatGeometry",
+            ));
+        }
         let n = positions.len();
-        let need_normals = primitive == Primitive::Disk;
-        let check_len = |name: &str, len: usize| {
-            if len == n {
-                Ok(())
-            } else {
-                Err(Error::invalid(format!(
-                    "geometry: {name} has {len} entries but positions has {n}"
-                )))
-            }
-        };
-        check_len("radii", radii.len())?;
-        check_len("thickness", thickness_nm.len())?;
-        if need_normals || !normals.is_empty() {
-            check_len("normals", normals.len())?;
-        }
-        if n >= u32::MAX as usize {
-            return Err(Error::invalid(format!(
-                "geometry: {n} particles is more than the supported {}",
-                u32::MAX - 1
-            )));
-        }
-        let bad = |what: &str, i: usize, v: String| {
-            Err(Error::invalid(format!(
-                "geometry: particle {i} has {what} {v}"
-            )))
-        };
-        if let Some(i) = first_bad(n, |i| !positions[i].is_finite()) {
-            return bad("a non-finite position", i, format!("{}", positions[i]));
-        }
-        if let Some(i) = first_bad(n, |i| !(radii[i] > 0.0 && radii[i].is_finite())) {
-            return bad(
-                "an invalid radius",
-                i,
-                format!("{} (must be > 0)", radii[i]),
-            );
-        }
-        if let Some(i) = first_bad(n, |i| {
-            !(thickness_nm[i] >= 0.0 && thickness_nm[i].is_finite())
-        }) {
-            return bad("an invalid thickness", i, format!("{} nm", thickness_nm[i]));
-        }
-        if need_normals {
-            let ok = |v: Vec3| v.is_finite() && v.length_squared() > 1e-12;
-            if let Some(i) = first_bad(n, |i| !ok(normals[i])) {
-                return bad("an unusable normal", i, format!("{}", normals[i]));
-            }
-        }
-
+        check_particles(
+            positions,
+            normals,
+            radii,
+            thickness_nm,
+            primitive == Primitive::Disk,
+        )?;
         let unit_normal = |i: usize| normals[i].normalize();
         let pad = |c: Vec3, r: f32| (c.abs().max_element() + r) * BOUNDS_PAD;
         let bounds: Vec<Aabb> = (0..n)
@@ -177,7 +205,8 @@ impl SplatGeometry {
                 let (c, r) = (positions[i], radii[i]);
                 let b = match primitive {
                     Primitive::Disk => disk_bounds(c, unit_normal(i), r),
-                    Primitive::Sphere => sphere_bounds(c, r),
+                    // `Mls` never gets here: it is refused above.
+                    Primitive::Sphere | Primitive::Mls => sphere_bounds(c, r),
                 };
                 b.padded(pad(c, r))
             })
@@ -201,7 +230,7 @@ impl SplatGeometry {
                 disks.extend([PAD_DISK; PAD]);
                 (disks, Vec::new())
             }
-            Primitive::Sphere => {
+            Primitive::Sphere | Primitive::Mls => {
                 let spheres = order
                     .par_iter()
                     .map(|&i| {
@@ -236,7 +265,7 @@ impl SplatGeometry {
             return None;
         }
         match self.primitive {
-            Primitive::Sphere => self.sphere_hit(ray, t_min, t_max),
+            Primitive::Sphere | Primitive::Mls => self.sphere_hit(ray, t_min, t_max),
             Primitive::Disk => self.disk_layer_hit(ray, t_min, t_max),
         }
     }
@@ -249,7 +278,7 @@ impl SplatGeometry {
             return None;
         }
         match self.primitive {
-            Primitive::Sphere => self.sphere_hit(ray, t_min, t_max),
+            Primitive::Sphere | Primitive::Mls => self.sphere_hit(ray, t_min, t_max),
             Primitive::Disk => {
                 let (slot, t, _) = self.closest_disk(ray, t_min, t_max)?;
                 let d = &self.disks[slot as usize];
@@ -274,7 +303,7 @@ impl SplatGeometry {
         }
         match self.primitive {
             Primitive::Disk => self.any_disk(ray, t_min, t_max),
-            Primitive::Sphere => self.bvh.any(ray, t_min, t_max, |s| {
+            Primitive::Sphere | Primitive::Mls => self.bvh.any(ray, t_min, t_max, |s| {
                 let p = &self.spheres[s as usize];
                 intersect_sphere(ray, p.center, p.radius, t_min, t_max).is_some()
             }),

@@ -15,7 +15,7 @@ pub mod compare;
 pub mod reconstruct;
 mod studio;
 
-use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
+use crate::geometry::{FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
@@ -302,26 +302,20 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let t2 = Instant::now();
     let normals = cloud.normals.as_ref().expect("filled");
     let thickness = cloud.thickness_nm.as_ref().expect("filled");
-    let mut geometry =
-        SplatGeometry::build(primitive, &cloud.positions, normals, &radii, thickness)?;
-    if desc.film.blend == Some(false) {
-        geometry.set_layer_blend(LayerBlend::NONE);
-    }
-    if primitive == Primitive::Disk && desc.film.curvature != Some(false) {
-        // First-order splats: normals tilt with the curvature, thickness follows its gradient.
-        // Reuse the estimate's neighbour table when it has enough neighbours per particle.
-        let table = match neighbours {
-            Some(t) if t.k >= DETAIL_NEIGHBOURS => t,
-            _ => KnnTable::build(&cloud.positions, DETAIL_NEIGHBOURS),
-        };
-        geometry.set_curvature(&curvature_from_table(&cloud.positions, normals, &table))?;
-        geometry.set_thickness_gradient(&gradient_from_table(
+    let geometry: FilmGeometry = if primitive == Primitive::Mls {
+        MlsSurface::build(&cloud.positions, normals, &radii, thickness)?.into()
+    } else {
+        splats(
+            desc,
+            primitive,
             &cloud.positions,
             normals,
+            &radii,
             thickness,
-            &table,
-        ))?;
-    }
+            neighbours,
+        )?
+        .into()
+    };
     let build_time = t2.elapsed();
 
     let bounds = geometry.bounds();
@@ -333,6 +327,8 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let layer_skip = match primitive {
         Primitive::Disk => 0.5 * median_radius,
         Primitive::Sphere => epsilon,
+        // An MLS crossing is refined to 1e-3 radii: a twentieth of a radius clears it.
+        Primitive::Mls => 0.05 * median_radius,
     };
     let centre = 0.5 * (bounds.min + bounds.max);
     let reach = cloud
@@ -353,7 +349,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {
         scene: Scene {
-            geometry: geometry.into(),
+            geometry,
             camera,
             environment,
             layer_skip,
@@ -373,6 +369,34 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         build_time,
         notes,
     })
+}
+
+/// Disks or spheres, with first-order detail on disks unless the scene turns it off.
+fn splats(
+    desc: &SceneDesc,
+    primitive: Primitive,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    radii: &[f32],
+    thickness: &[f32],
+    neighbours: Option<KnnTable>,
+) -> Result<SplatGeometry> {
+    let mut geometry = SplatGeometry::build(primitive, positions, normals, radii, thickness)?;
+    if desc.film.blend == Some(false) {
+        geometry.set_layer_blend(LayerBlend::NONE);
+    }
+    if primitive == Primitive::Disk && desc.film.curvature != Some(false) {
+        // First-order splats: normals tilt with the curvature, thickness follows its gradient.
+        // Reuse the estimate's neighbour table when it has enough neighbours per particle.
+        let table = match neighbours {
+            Some(t) if t.k >= DETAIL_NEIGHBOURS => t,
+            _ => KnnTable::build(positions, DETAIL_NEIGHBOURS),
+        };
+        geometry.set_curvature(&curvature_from_table(positions, normals, &table))?;
+        geometry
+            .set_thickness_gradient(&gradient_from_table(positions, normals, thickness, &table))?;
+    }
+    Ok(geometry)
 }
 
 fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
