@@ -67,8 +67,11 @@ fn scene(name: &str) -> SceneDesc {
     SceneDesc::from_toml(&text, &path.to_string_lossy()).unwrap()
 }
 
-/// The scene's props of one shape: (position, axis, radius, minor radius, height).
-fn props(desc: &SceneDesc, shape: &str) -> Vec<([f64; 3], [f64; 3], f64, f64, f64)> {
+/// A prop's (position, axis, radius, minor radius, height).
+type PropGeometry = ([f64; 3], [f64; 3], f64, f64, f64);
+
+/// The scene's props of one shape.
+fn props(desc: &SceneDesc, shape: &str) -> Vec<PropGeometry> {
     let f = |v: [f32; 3]| v.map(f64::from);
     desc.prop
         .iter()
