@@ -60,3 +60,145 @@ fn a_scene_file_names_any_generator_and_can_thin_it() {
     });
     assert!(c.positions.iter().all(|p| full.positions.contains(p)));
 }
+
+fn scene(name: &str) -> SceneDesc {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("samples/{name}.toml"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    SceneDesc::from_toml(&text, &path.to_string_lossy()).unwrap()
+}
+
+/// A prop's (position, axis, radius, minor radius, height).
+type PropGeometry = ([f64; 3], [f64; 3], f64, f64, f64);
+
+/// The scene's props of one shape.
+fn props(desc: &SceneDesc, shape: &str) -> Vec<PropGeometry> {
+    let f = |v: [f32; 3]| v.map(f64::from);
+    desc.prop
+        .iter()
+        .filter(|p| p.shape.get_ref() == shape)
+        .map(|p| {
+            (
+                f(p.position),
+                f(p.axis.unwrap_or([0.0, 1.0, 0.0])),
+                p.radius.unwrap_or(0.0).into(),
+                p.minor_radius.unwrap_or(0.0).into(),
+                p.height.unwrap_or(0.0).into(),
+            )
+        })
+        .collect()
+}
+
+fn cloud(desc: &SceneDesc, kind: SampleKind) -> filmsplat::pointcloud::PointCloud {
+    kind.generate(&filmsplat::samples::SampleParams {
+        particles: 20_000,
+        time: desc.input.time.unwrap_or(0.0),
+        seed: 1,
+    })
+}
+
+#[test]
+fn catenoid_rings_sit_on_the_films_boundary_at_the_scenes_time() {
+    use filmsplat::samples::catenoid::{RING_RADIUS, ring_half_separation};
+    let desc = scene("catenoid");
+    let t = desc.input.time.unwrap_or(0.0);
+    let half = ring_half_separation(t.into());
+    assert!(half > 0.3, "t = {t}: half separation {half}");
+    let mut rings = props(&desc, "torus");
+    assert_eq!(rings.len(), 2, "two wire rings");
+    rings.sort_by(|a, b| a.0[1].total_cmp(&b.0[1]));
+    for (ring, y) in rings.iter().zip([-half, half]) {
+        let (p, axis, r, minor, _) = *ring;
+        assert!(
+            (p[0].abs() + p[2].abs()) < 1e-6 && (p[1] - y).abs() < 1e-3,
+            "{p:?} vs y {y}"
+        );
+        assert!(
+            axis[0].abs() + axis[2].abs() < 1e-6 && axis[1] > 0.0,
+            "{axis:?}"
+        );
+        assert!(
+            (r - RING_RADIUS).abs() < 1e-3 && (0.005..0.06).contains(&minor),
+            "{r} {minor}"
+        );
+    }
+    // The generated film ends inside the wire: every particle in a ring's plane lies within
+    // the tube (plus a splat radius) of the ring's centre line, and the film spans the rings.
+    let c = cloud(&desc, SampleKind::Catenoid);
+    let (minor, mut top) = (rings[0].3, 0.0f64);
+    let radii = c.radius.as_ref().expect("generators give splat radii");
+    for (q, &s) in c.positions.iter().zip(radii) {
+        let (rho, y) = (f64::from(q.x).hypot(q.z.into()), f64::from(q.y));
+        top = top.max(y.abs());
+        if y.abs() > half - 0.01 {
+            let d = (rho - RING_RADIUS).hypot(y.abs() - half);
+            assert!(
+                d < minor + f64::from(s),
+                "particle {q} is {d} from the ring"
+            );
+        }
+    }
+    assert!(
+        (top - half).abs() < 0.01,
+        "film reaches y = ±{top}, rings at ±{half}"
+    );
+}
+
+#[test]
+fn flat_film_frames_sit_on_the_films_boundary() {
+    use filmsplat::samples::flat_film::HALF_SIZE;
+    // Square: four wires along x = ±1 and y = ±1 in z = 0, each spanning a whole side.
+    let desc = scene("square-film");
+    let wires = props(&desc, "cylinder");
+    let mut sides = 0;
+    for (p, axis, r, _, h) in &wires {
+        let along = if axis[0].abs() > 0.99 {
+            0
+        } else if axis[1].abs() > 0.99 {
+            1
+        } else {
+            continue;
+        };
+        let across = 1 - along;
+        if (p[across].abs() - HALF_SIZE).abs() > 1e-3 || p[2].abs() > 1e-3 {
+            continue; // the stand
+        }
+        let (a, b) = (
+            p[along].min(p[along] + h * axis[along]),
+            p[along].max(p[along] + h * axis[along]),
+        );
+        assert!(
+            a <= -HALF_SIZE && b >= HALF_SIZE && *r < 0.06,
+            "wire {p:?} {axis:?} {h}"
+        );
+        sides += 1 << (2 * along + usize::from(p[across] > 0.0));
+    }
+    assert_eq!(sides, 0b1111, "one wire on each side of the square");
+    let c = cloud(&desc, SampleKind::SquareFilm);
+    let ext = |i: usize| {
+        c.positions
+            .iter()
+            .map(|q| f64::from(q[i]).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!((ext(0) - HALF_SIZE).abs() < 0.02 && (ext(1) - HALF_SIZE).abs() < 0.02);
+    // Circle: one ring of radius 1 about the z axis at the origin.
+    let desc = scene("circle-film");
+    let rings = props(&desc, "torus");
+    assert_eq!(rings.len(), 1);
+    let (p, axis, r, minor, _) = rings[0];
+    assert!(
+        p.iter().all(|v| v.abs() < 1e-6) && axis[2] > 0.999,
+        "{p:?} {axis:?}"
+    );
+    assert!(
+        (r - HALF_SIZE).abs() < 1e-3 && (0.005..0.06).contains(&minor),
+        "{r} {minor}"
+    );
+    let c = cloud(&desc, SampleKind::CircleFilm);
+    let rim = c
+        .positions
+        .iter()
+        .map(|q| f64::from(q.x).hypot(q.y.into()))
+        .fold(0.0, f64::max);
+    assert!((rim - HALF_SIZE).abs() < 0.02, "film rim at {rim}");
+}

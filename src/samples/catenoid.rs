@@ -9,6 +9,8 @@ use super::thickness::{Chart, ThicknessField};
 use crate::pointcloud::PointCloud;
 use glam::DVec2;
 
+/// Radius of the two rings the film spans, scene units (the film's scale).
+pub const RING_RADIUS: f64 = 1.0;
 /// Ring separation at time 0, in ring radii.
 pub const H0: f64 = 0.5;
 /// Separation approached as time goes on (the film would pop beyond 1.3255), ring radii.
@@ -23,6 +25,12 @@ const LAT: f64 = 0.8;
 /// Ring separation at `time` (s), in ring radii.
 pub fn separation(time: f64) -> f64 {
     H_MAX - (H_MAX - H0) * (-time.max(0.0) / TAU_S).exp()
+}
+
+/// Height of the upper ring above the middle, scene units, at `time` (s): the rings sit at
+/// y = ±[`ring_half_separation`], radius [`RING_RADIUS`], on the vertical y axis.
+pub fn ring_half_separation(time: f64) -> f64 {
+    0.5 * RING_RADIUS * separation(time)
 }
 
 /// The neck parameter a of the stable catenoid spanning unit rings `h` apart, or `None` if

@@ -14,6 +14,9 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
+/// Half the side of the square film and the radius of the circular one, scene units: the
+/// frames are the square |x|, |y| ≤ HALF_SIZE and the circle r = HALF_SIZE in the plane z = 0.
+pub const HALF_SIZE: f64 = 1.0;
 /// Bulge amplitude B, scene units (film half-width 1).
 pub const BULGE: f64 = 0.05;
 /// Period of the bulge oscillation, seconds.
