@@ -38,8 +38,8 @@ pub use blend::LayerBlend;
 pub use bvh::{Bvh, BvhNode, BvhParams};
 pub use film::FilmGeometry;
 pub use mesh::{MeshGeometry, MeshSides};
-pub use props::{Mesh, PropHit, Props, Shape};
 pub use mls::{MlsParams, MlsSurface};
+pub use props::{Mesh, PropHit, Props, Shape};
 pub use splat::{SplatGeometry, SurfaceHit};
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`

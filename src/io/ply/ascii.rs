@@ -31,52 +31,14 @@ pub(super) fn read<R: Read>(
     for i in 0..v.count {
         let line = record_line(src, &mut line_no, v, i)?;
         let at = || format!("line {line_no}: {}", record_name(v, i));
-        let text = std::str::from_utf8(line)
-            .map_err(|_| Fail::msg(format!("{}: not text (binary data?)", at())))?;
-        let mut tokens = text.split_ascii_whitespace();
-        let mut next = |what: &str| -> Result<f64, Fail> {
-            let tok = tokens
-                .next()
-                .ok_or_else(|| Fail::msg(format!("{}: too few values (missing {what})", at())))?;
-            // Integers and floats alike; `nan`/`inf` are accepted (values are not validated).
-            tok.parse::<f64>().map_err(|_| {
-                let shown = super::header::show(tok);
-                Fail::msg(format!("{}: '{shown}' is not a number", at()))
-            })
-        };
         out.grow(1);
         let row = out.len() - 1;
-        for (p, &t) in v.props.iter().zip(&plan.targets) {
-            match p.kind {
-                PropKind::Scalar(_) => {
-                    let x = next(&p.name)?;
-                    out.set(t, row, x as f32);
-                }
-                PropKind::List { .. } => {
-                    let n = next(&p.name)?;
-                    if n < 0.0 || n.fract() != 0.0 {
-                        return Err(Fail::msg(format!(
-                            "{}: list length {n} of '{}' is not a count",
-                            at(),
-                            super::header::show(&p.name)
-                        )));
-                    }
-                    // Each item needs a token, so this loop ends at the end of the line.
-                    let mut k = 0.0;
-                    while k < n {
-                        next(&p.name)?;
-                        k += 1.0;
-                    }
-                }
+        // List items (skipped) are not stored.
+        parse_record(line, &at, v, |pi, item, x| {
+            if !item {
+                out.set(plan.targets[pi], row, x as f32);
             }
-        }
-        if tokens.next().is_some() {
-            return Err(Fail::msg(format!(
-                "{}: more values than the header's {} properties",
-                at(),
-                v.props.len()
-            )));
-        }
+        })?;
     }
     Ok(line_no)
 }
@@ -104,54 +66,69 @@ pub(super) fn read_faces<R: Read>(
     for i in 0..f.count {
         let line = record_line(src, &mut line_no, f, i)?;
         let at = || format!("line {line_no}: {}", record_name(f, i));
-        let text = std::str::from_utf8(line)
-            .map_err(|_| Fail::msg(format!("{}: not text (binary data?)", at())))?;
-        let mut tokens = text.split_ascii_whitespace();
-        let mut next = |what: &str| -> Result<f64, Fail> {
-            let tok = tokens
-                .next()
-                .ok_or_else(|| Fail::msg(format!("{}: too few values (missing {what})", at())))?;
-            tok.parse::<f64>().map_err(|_| {
-                let shown = super::header::show(tok);
-                Fail::msg(format!("{}: '{shown}' is not a number", at()))
-            })
-        };
         poly.clear();
-        for (pi, p) in f.props.iter().enumerate() {
-            match p.kind {
-                PropKind::Scalar(_) => {
-                    next(&p.name)?;
-                }
-                PropKind::List { .. } => {
-                    let n = next(&p.name)?;
-                    if n < 0.0 || n.fract() != 0.0 {
-                        return Err(Fail::msg(format!(
-                            "{}: list length {n} of '{}' is not a count",
-                            at(),
-                            super::header::show(&p.name)
-                        )));
-                    }
-                    let mut k = 0.0;
-                    while k < n {
-                        let x = next(&p.name)?;
-                        if pi == li {
-                            poly.push(x);
-                        }
-                        k += 1.0;
-                    }
-                }
+        parse_record(line, &at, f, |pi, item, x| {
+            if item && pi == li {
+                poly.push(x);
             }
-        }
-        if tokens.next().is_some() {
-            return Err(Fail::msg(format!(
-                "{}: more values than the header's {} properties",
-                at(),
-                f.props.len()
-            )));
-        }
+        })?;
         faces
             .push(&poly)
             .map_err(|m| Fail::msg(format!("{}: {m}", at())))?;
+    }
+    Ok(())
+}
+
+/// Parses one record of `e` from its line: every value is passed to `value(property index,
+/// is a list item, value)` in file order (list lengths are not passed). `at()` names the record
+/// in errors: not text, too few or too many values, a token that is not a number, a list length
+/// that is not a count. Integers and floats alike are read as f64; `nan`/`inf` are accepted
+/// (values are not validated here).
+fn parse_record(
+    line: &[u8],
+    at: &dyn Fn() -> String,
+    e: &Element,
+    mut value: impl FnMut(usize, bool, f64),
+) -> Result<(), Fail> {
+    let text = std::str::from_utf8(line)
+        .map_err(|_| Fail::msg(format!("{}: not text (binary data?)", at())))?;
+    let mut tokens = text.split_ascii_whitespace();
+    let next = |tokens: &mut std::str::SplitAsciiWhitespace<'_>, what: &str| {
+        let tok = tokens
+            .next()
+            .ok_or_else(|| Fail::msg(format!("{}: too few values (missing {what})", at())))?;
+        tok.parse::<f64>().map_err(|_| {
+            let shown = super::header::show(tok);
+            Fail::msg(format!("{}: '{shown}' is not a number", at()))
+        })
+    };
+    for (pi, p) in e.props.iter().enumerate() {
+        match p.kind {
+            PropKind::Scalar(_) => value(pi, false, next(&mut tokens, &p.name)?),
+            PropKind::List { .. } => {
+                let n = next(&mut tokens, &p.name)?;
+                if n < 0.0 || n.fract() != 0.0 {
+                    return Err(Fail::msg(format!(
+                        "{}: list length {n} of '{}' is not a count",
+                        at(),
+                        super::header::show(&p.name)
+                    )));
+                }
+                // Each item needs a token, so this loop ends at the end of the line.
+                let mut k = 0.0;
+                while k < n {
+                    value(pi, true, next(&mut tokens, &p.name)?);
+                    k += 1.0;
+                }
+            }
+        }
+    }
+    if tokens.next().is_some() {
+        return Err(Fail::msg(format!(
+            "{}: more values than the header's {} properties",
+            at(),
+            e.props.len()
+        )));
     }
     Ok(())
 }

@@ -53,6 +53,13 @@ pub fn read_described(
     opts: &ReadOptions,
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
+    with_file(path, |file, len| read_from(file, len, opts))
+}
+
+/// Opens the file at `path` (refusing directories) and runs `read` on it with the file's length
+/// (a regular file's length bounds its content; pipes report none). Failures become
+/// [`Error::Io`] or [`Error::Format`] naming the file.
+fn with_file<T>(path: &Path, read: impl FnOnce(File, Option<u64>) -> Result<T, Fail>) -> Result<T> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
         return Err(Error::io(
@@ -61,9 +68,8 @@ pub fn read_described(
         ));
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    // Only a regular file's length bounds its content; pipes report 0.
     let len = meta.is_file().then_some(meta.len());
-    read_from(file, len, opts).map_err(|f| match f {
+    read(file, len).map_err(|f| match f {
         Fail::Io(e) => Error::io(path, e),
         Fail::Msg(message) => Error::Format {
             path: path.to_path_buf(),
@@ -136,23 +142,7 @@ fn read_from<R: Read>(
 /// is not an integer or is beyond the vertex count (naming the face).
 pub fn read_mesh(path: &Path, opts: &ReadOptions) -> Result<TriangleMesh> {
     opts.check()?;
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.is_dir() {
-        return Err(Error::io(
-            path,
-            io::Error::new(io::ErrorKind::IsADirectory, "is a directory"),
-        ));
-    }
-    let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    let len = meta.is_file().then_some(meta.len());
-    read_mesh_from(file, len, opts).map_err(|f| match f {
-        Fail::Io(e) => Error::io(path, e),
-        Fail::Msg(message) => Error::Format {
-            path: path.to_path_buf(),
-            format: FORMAT,
-            message,
-        },
-    })
+    with_file(path, |file, len| read_mesh_from(file, len, opts))
 }
 
 /// Triangles being collected from a face element.
