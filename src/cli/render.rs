@@ -3,6 +3,7 @@
 use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
+use crate::pipeline::memory;
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use clap::Args;
@@ -135,6 +136,10 @@ pub struct RenderArgs {
     /// failed), instead of stopping at the first.
     #[arg(long)]
     keep_going: bool,
+    /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
+    /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
+    #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
+    max_memory: Option<u64>,
     /// No progress bar or summary.
     #[arg(short, long)]
     quiet: bool,
@@ -330,6 +335,19 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             return Err(Error::invalid(format!(
                 "{}: output must end in .png or .exr",
                 p.display()
+            )));
+        }
+    }
+    if let Some(limit) = a.max_memory {
+        let exr = std::iter::once(&output)
+            .chain(a.exr.as_ref())
+            .any(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
+        let estimate = memory::estimate_scene(&desc, &base, exr)?;
+        if estimate.total() > limit {
+            return Err(Error::invalid(format!(
+                "{}: estimated peak memory {estimate} exceeds --max-memory {}",
+                a.input.display(),
+                memory::human_bytes(limit)
             )));
         }
     }

@@ -30,6 +30,7 @@ mod columns;
 pub mod csv;
 pub mod frame_folder;
 mod num;
+mod peek;
 pub mod ply;
 mod sources;
 pub mod vtk;
@@ -37,6 +38,7 @@ pub mod vtu;
 mod write_ply;
 mod xml;
 
+pub use peek::{CountHint, peek_count};
 pub use write_ply::write_ply;
 
 use std::io::Read;

@@ -10,6 +10,8 @@
 //! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
 //! ```
 
+pub mod memory;
+
 use crate::geometry::{LayerBlend, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
