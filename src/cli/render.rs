@@ -129,7 +129,9 @@ pub struct RenderArgs {
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
     frame: Option<u64>,
-    /// Skip frames whose output file already exists.
+    /// Skip frames whose output file already exists (outputs are renamed into place only when
+    /// complete, so an existing file is a finished frame), and remove the hidden temporary
+    /// files (`.NAME.tmp-PID-N`) a killed run left for the frames of this run.
     #[arg(long)]
     resume: bool,
     /// Report a frame that fails and go on with the others (exit code 2 at the end if any
@@ -289,7 +291,23 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         }
         one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
         let target = one.output.clone().expect("set");
-        if a.resume && target.exists() {
+        if a.resume {
+            // A run killed mid-write leaves a hidden `.NAME.tmp-PID-N`; this shard owns frame f.
+            let mut removed = 0;
+            for t in std::iter::once(&target).chain(one.exr.as_ref()) {
+                removed += crate::atomic::remove_stale_temps(t)?;
+            }
+            if removed > 0 && !a.quiet {
+                let _ = writeln!(
+                    out,
+                    "frame {f}: removed {removed} unfinished temporary file(s) of an interrupted run"
+                );
+            }
+        }
+        let finished = std::iter::once(&target)
+            .chain(one.exr.as_ref())
+            .all(|p| p.exists());
+        if a.resume && finished {
             if !a.quiet {
                 let _ = writeln!(out, "frame {f}: {} exists, skipped", target.display());
             }
