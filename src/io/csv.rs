@@ -32,7 +32,17 @@ const FORMAT: &str = "CSV";
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
     opts.check()?;
     let bytes = read_file(path)?;
-    parse(&bytes)
+    read_bytes(&bytes, path, opts)
+}
+
+/// Reads a CSV/XYZ file's content already in memory, as [`read`] does; `path` only names the
+/// source in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read`], without the I/O errors.
+pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    opts.check()?;
+    parse(bytes)
         .and_then(|c| c.into_cloud(opts, &STANDARD))
         .map_err(|m| format_error(path, FORMAT, m))
 }

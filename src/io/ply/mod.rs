@@ -61,6 +61,23 @@ pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
     })
 }
 
+/// Reads a PLY file's content already in memory, as [`read`] does; `path` only names the
+/// source in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read`], without the I/O errors.
+pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    opts.check()?;
+    read_from(bytes, Some(bytes.len() as u64), opts).map_err(|f| match f {
+        Fail::Io(e) => Error::io(path, e),
+        Fail::Msg(message) => Error::Format {
+            path: path.to_path_buf(),
+            format: FORMAT,
+            message,
+        },
+    })
+}
+
 /// Internal failure: an I/O error or a message about the content (the path is added later).
 #[derive(Debug)]
 enum Fail {
