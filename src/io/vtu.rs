@@ -159,6 +159,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
     };
     let mut pieces: Vec<Piece> = Vec::new();
     let mut ctx = Ctx::None;
+    let mut closed = false;
     while let Some(t) = sc.next_tag()? {
         let at = t.start;
         match (t.name, t.end) {
@@ -206,11 +207,41 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
                         "byte offset {i}: AppendedData does not start with '_'"
                     ));
                 }
-                set.appended = Some((&b[i + 1..], base64));
+                // Raw data may hold any bytes, so its end is the last closing tag; a file
+                // without one was cut off.
+                let close = b"</AppendedData>";
+                let end = b[i..]
+                    .windows(close.len())
+                    .rposition(|w| w == close)
+                    .map(|k| i + k)
+                    .ok_or_else(|| {
+                        format!(
+                            "truncated: the appended data from byte offset {i} has no \
+                             </AppendedData> after it"
+                        )
+                    })?;
+                if !b[end..].windows(10).any(|w| w == b"</VTKFile>") {
+                    return Err(format!(
+                        "truncated: the file ends at byte {} before </VTKFile>",
+                        b.len()
+                    ));
+                }
+                set.appended = Some((&b[i + 1..end], base64));
+                closed = true;
+                break;
+            }
+            ("VTKFile", true) => {
+                closed = true;
                 break;
             }
             _ => {}
         }
+    }
+    if !closed {
+        return Err(format!(
+            "truncated: the file ends at byte {} before </VTKFile>",
+            b.len()
+        ));
     }
     if pieces.is_empty() {
         return Err("no Piece element".into());
