@@ -61,6 +61,39 @@ fn temp_path(path: &Path) -> Result<PathBuf> {
     Ok(path.with_file_name(tmp_name))
 }
 
+/// Removes the temporary files that interrupted [`write_atomic`]s of `path` left behind (a
+/// process killed between creating and renaming its `.NAME.tmp-PID-N`), except this process's
+/// own. Returns how many were removed. Call it only when no other process is writing `path`.
+///
+/// # Errors
+/// [`Error::Io`] if the directory cannot be listed or a temporary file cannot be removed.
+pub fn remove_stale_temps(path: &Path) -> Result<usize> {
+    let Some(name) = path.file_name() else {
+        return Ok(0);
+    };
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let own = format!("{prefix}{}-", std::process::id());
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let entries = match fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(0),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    let mut removed = 0;
+    for entry in entries {
+        let entry = entry.map_err(|e| Error::io(dir, e))?;
+        let file = entry.file_name().to_string_lossy().into_owned();
+        if file.starts_with(&prefix) && !file.starts_with(&own) {
+            fs::remove_file(entry.path()).map_err(|e| Error::io(entry.path(), e))?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
+}
+
 /// Makes the rename durable by syncing the directory (best effort; not possible on all systems).
 fn sync_parent(path: &Path) {
     #[cfg(unix)]
@@ -132,6 +165,27 @@ mod tests {
         let err = write_atomic(&p, |_| Ok(())).unwrap_err();
         assert!(err.to_string().contains("no/such/dir/out.txt"), "{err}");
         assert!(entries(&d).is_empty());
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn stale_temps_of_other_processes_are_removed() {
+        let d = scratch("stale");
+        let p = d.join("f.png");
+        let own = format!(".f.png.tmp-{}-3", std::process::id());
+        for name in [
+            ".f.png.tmp-4000000-0",
+            ".f.png.tmp-1-7",
+            own.as_str(),
+            ".g.png.tmp-1-0",
+        ] {
+            fs::write(d.join(name), b"partial").unwrap();
+        }
+        assert_eq!(remove_stale_temps(&p).unwrap(), 2);
+        let mut left = vec![".g.png.tmp-1-0".to_string(), own];
+        left.sort();
+        assert_eq!(entries(&d), left);
+        assert_eq!(remove_stale_temps(&d.join("none/f.png")).unwrap(), 0);
         fs::remove_dir_all(&d).unwrap();
     }
 

@@ -436,3 +436,24 @@ fn every_truncation_and_byte_flip_is_handled() {
         }
     }
 }
+
+/// Regression (found by the malformed corpus): a file cut before `</VTKFile>` used to read as
+/// complete when the arrays were whole, and raw appended data could run into the closing tags.
+#[test]
+fn every_truncation_is_an_error() {
+    for m in modes() {
+        let full = vtu(m);
+        let close = full
+            .windows(b"</VTKFile>".len())
+            .rposition(|w| w == b"</VTKFile>")
+            .unwrap();
+        for cut in (0..close).step_by(5) {
+            let r = filmsplat::io::vtu::read_bytes(
+                &full[..cut],
+                Path::new("cut.vtu"),
+                &ReadOptions::default(),
+            );
+            assert!(r.is_err(), "{m:?}: cut at {cut} of {} read", full.len());
+        }
+    }
+}

@@ -1,7 +1,8 @@
 //! `filmsplat info`: what a particle file holds and what the renderer would make of it.
 
 use crate::Result;
-use crate::io::{AttributeRole, StoredAttribute, read_cloud_described};
+use crate::io::{AttributeRole, StoredAttribute, peek_count, read_cloud_described};
+use crate::pipeline::memory::{MemoryEstimate, human_bytes};
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::estimate::estimate_radii;
 use crate::pointcloud::{EstimateOptions, compute_stats};
@@ -16,11 +17,15 @@ pub struct InfoArgs {
     input: PathBuf,
     #[command(flatten)]
     attributes: super::attributes::AttributeArgs,
+    /// Image size WIDTHxHEIGHT the peak-memory estimate is for (default 960x540, as render).
+    #[arg(long, value_parser = super::parse::size)]
+    size: Option<(usize, usize)>,
 }
 
 /// Runs `filmsplat info`.
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     let opts = a.attributes.read_options()?;
+    let hint = peek_count(&a.input)?;
     let (cloud, stored) = read_cloud_described(&a.input, &opts)?;
     let stats = compute_stats(&cloud);
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));
@@ -63,6 +68,20 @@ pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
         )
         .map_err(io)?;
     }
+    let (w, h) = a.size.unwrap_or((960, 540));
+    let file = if hint.reads_whole_file {
+        hint.file_bytes
+    } else {
+        0
+    };
+    let estimate = MemoryEstimate::new(cloud.len() as u64, w, h, false, file);
+    let exr = MemoryEstimate::new(cloud.len() as u64, w, h, true, file);
+    writeln!(
+        out,
+        "estimated peak memory of a {w}x{h} render: {estimate}; {} with an EXR output",
+        human_bytes(exr.total())
+    )
+    .map_err(io)?;
     Ok(())
 }
 

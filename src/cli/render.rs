@@ -3,6 +3,7 @@
 use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
+use crate::pipeline::memory;
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use clap::Args;
@@ -155,13 +156,19 @@ pub struct RenderArgs {
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
     pub(super) frame: Option<u64>,
-    /// Skip frames whose output file already exists.
+    /// Skip frames whose output file already exists (outputs are renamed into place only when
+    /// complete, so an existing file is a finished frame), and remove the hidden temporary
+    /// files (`.NAME.tmp-PID-N`) a killed run left for the frames of this run.
     #[arg(long)]
     pub(super) resume: bool,
     /// Report a frame that fails and go on with the others (exit code 2 at the end if any
     /// failed), instead of stopping at the first.
     #[arg(long)]
     pub(super) keep_going: bool,
+    /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
+    /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
+    #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
+    pub(super) max_memory: Option<u64>,
     /// No progress bar or summary.
     #[arg(short, long)]
     pub(super) quiet: bool,
@@ -323,7 +330,23 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         }
         one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
         let target = one.output.clone().expect("set");
-        if a.resume && target.exists() {
+        if a.resume {
+            // A run killed mid-write leaves a hidden `.NAME.tmp-PID-N`; this shard owns frame f.
+            let mut removed = 0;
+            for t in std::iter::once(&target).chain(one.exr.as_ref()) {
+                removed += crate::atomic::remove_stale_temps(t)?;
+            }
+            if removed > 0 && !a.quiet {
+                let _ = writeln!(
+                    out,
+                    "frame {f}: removed {removed} unfinished temporary file(s) of an interrupted run"
+                );
+            }
+        }
+        let finished = std::iter::once(&target)
+            .chain(one.exr.as_ref())
+            .all(|p| p.exists());
+        if a.resume && finished {
             if !a.quiet {
                 let _ = writeln!(out, "frame {f}: {} exists, skipped", target.display());
             }
@@ -369,6 +392,19 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             return Err(Error::invalid(format!(
                 "{}: output must end in .png or .exr",
                 p.display()
+            )));
+        }
+    }
+    if let Some(limit) = a.max_memory {
+        let exr = std::iter::once(&output)
+            .chain(a.exr.as_ref())
+            .any(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
+        let estimate = memory::estimate_scene(&desc, &base, exr)?;
+        if estimate.total() > limit {
+            return Err(Error::invalid(format!(
+                "{}: estimated peak memory {estimate} exceeds --max-memory {}",
+                a.input.display(),
+                memory::human_bytes(limit)
             )));
         }
     }

@@ -51,9 +51,28 @@ pub fn read_described(
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let raw = read_file(path)?;
+    read_bytes_described(&raw, path, opts)
+}
+
+/// Reads a BGEO file's content (plain or gzip) already in memory, as [`read`] does; `path` only
+/// names the source in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read`], without the I/O errors.
+pub fn read_bytes(raw: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_bytes_described(raw, path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_bytes_described(
+    raw: &[u8],
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
+    opts.check()?;
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
         let mut out = Vec::new();
-        flate2::read::MultiGzDecoder::new(raw.as_slice())
+        flate2::read::MultiGzDecoder::new(raw)
             .read_to_end(&mut out)
             .map_err(|e| {
                 format_error(
@@ -65,9 +84,9 @@ pub fn read_described(
                     ),
                 )
             })?;
-        out
+        std::borrow::Cow::Owned(out)
     } else {
-        raw
+        std::borrow::Cow::Borrowed(raw)
     };
     parse(&bytes)
         .and_then(|c| c.into_cloud(opts, &STANDARD))

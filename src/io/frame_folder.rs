@@ -126,6 +126,15 @@ pub fn read_described(
         .map_err(|m| format_error(dir, FORMAT, m))
 }
 
+/// Decodes one `*_bin` file's content already in memory: returns (components per particle,
+/// 1 or 3; the values as f32). `path` only names the file in errors. Never panics.
+///
+/// # Errors
+/// [`Error::Format`] naming `path` if the size fits neither layout.
+pub fn read_bin_bytes(bytes: &[u8], path: &Path) -> Result<(usize, Vec<f32>)> {
+    parse(bytes).map_err(|m| format_error(path, FORMAT, m))
+}
+
 /// Decodes one `*_bin` file: returns (components, values as f32). An empty file body
 /// (count 0) reads as scalar.
 fn parse(bytes: &[u8]) -> std::result::Result<(usize, Vec<f32>), String> {

@@ -35,6 +35,7 @@ pub mod csv;
 pub mod frame_folder;
 mod num;
 pub mod obj;
+mod peek;
 pub mod ply;
 mod sources;
 pub mod vtk;
@@ -43,6 +44,7 @@ mod write_ply;
 mod xml;
 
 pub use obj::read_mesh;
+pub use peek::{CountHint, peek_count};
 pub use write_ply::{write_mesh_ply, write_ply};
 
 use std::io::Read;

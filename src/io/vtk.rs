@@ -43,7 +43,26 @@ pub fn read_described(
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = read_file(path)?;
-    parse(&bytes)
+    read_bytes_described(&bytes, path, opts)
+}
+
+/// Reads a VTK legacy file's content already in memory, as [`read`] does; `path` only names the
+/// source in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read`], without the I/O errors.
+pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_bytes_described(bytes, path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_bytes_described(
+    bytes: &[u8],
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
+    opts.check()?;
+    parse(bytes)
         .and_then(|c| c.into_cloud(opts, &STANDARD))
         .map_err(|m| format_error(path, FORMAT, m))
 }

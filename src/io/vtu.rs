@@ -50,7 +50,26 @@ pub fn read_described(
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = read_file(path)?;
-    parse(&bytes)
+    read_bytes_described(&bytes, path, opts)
+}
+
+/// Reads a VTK XML file's content already in memory, as [`read`] does; `path` only names the
+/// source in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read`], without the I/O errors.
+pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_bytes_described(bytes, path, opts).map(|(c, _)| c)
+}
+
+/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
+pub fn read_bytes_described(
+    bytes: &[u8],
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
+    opts.check()?;
+    parse(bytes)
         .and_then(|c| c.into_cloud(opts, &STANDARD))
         .map_err(|m| format_error(path, FORMAT, m))
 }
@@ -158,6 +177,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
     };
     let mut pieces: Vec<Piece> = Vec::new();
     let mut ctx = Ctx::None;
+    let mut closed = false;
     while let Some(t) = sc.next_tag()? {
         let at = t.start;
         match (t.name, t.end) {
@@ -205,11 +225,41 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
                         "byte offset {i}: AppendedData does not start with '_'"
                     ));
                 }
-                set.appended = Some((&b[i + 1..], base64));
+                // Raw data may hold any bytes, so its end is the last closing tag; a file
+                // without one was cut off.
+                let close = b"</AppendedData>";
+                let end = b[i..]
+                    .windows(close.len())
+                    .rposition(|w| w == close)
+                    .map(|k| i + k)
+                    .ok_or_else(|| {
+                        format!(
+                            "truncated: the appended data from byte offset {i} has no \
+                             </AppendedData> after it"
+                        )
+                    })?;
+                if !b[end..].windows(10).any(|w| w == b"</VTKFile>") {
+                    return Err(format!(
+                        "truncated: the file ends at byte {} before </VTKFile>",
+                        b.len()
+                    ));
+                }
+                set.appended = Some((&b[i + 1..end], base64));
+                closed = true;
+                break;
+            }
+            ("VTKFile", true) => {
+                closed = true;
                 break;
             }
             _ => {}
         }
+    }
+    if !closed {
+        return Err(format!(
+            "truncated: the file ends at byte {} before </VTKFile>",
+            b.len()
+        ));
     }
     if pieces.is_empty() {
         return Err("no Piece element".into());

@@ -11,6 +11,7 @@
 //! ```
 
 pub mod compare;
+pub mod memory;
 #[cfg(feature = "reconstruct")]
 pub mod reconstruct;
 mod studio;

@@ -69,14 +69,31 @@ fn with_file<T>(path: &Path, read: impl FnOnce(File, Option<u64>) -> Result<T, F
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
     let len = meta.is_file().then_some(meta.len());
-    read(file, len).map_err(|f| match f {
+    read(file, len).map_err(|f| fail_to_error(path, f))
+}
+
+/// The library error for a failure reading `path`.
+fn fail_to_error(path: &Path, f: Fail) -> Error {
+    match f {
         Fail::Io(e) => Error::io(path, e),
         Fail::Msg(message) => Error::Format {
             path: path.to_path_buf(),
             format: FORMAT,
             message,
         },
-    })
+    }
+}
+
+/// Reads a PLY file's content already in memory, as [`read`] does; `path` only names the
+/// source in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read`], without the I/O errors.
+pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    opts.check()?;
+    read_from(bytes, Some(bytes.len() as u64), opts)
+        .map(|(c, _)| c)
+        .map_err(|f| fail_to_error(path, f))
 }
 
 /// Internal failure: an I/O error or a message about the content (the path is added later).

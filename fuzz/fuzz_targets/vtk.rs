@@ -1,0 +1,15 @@
+//! The vtk reader on arbitrary bytes: an error or a cloud, never a panic; a cloud it returns
+//! goes through validation and repair, which must not panic on whatever values it holds.
+#![no_main]
+
+use filmsplat::io::{ReadOptions, vtk};
+use filmsplat::pointcloud::{repair, validate};
+use libfuzzer_sys::fuzz_target;
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(mut cloud) = vtk::read_bytes(data, Path::new("fuzz.vtk"), &ReadOptions::default()) {
+        let _ = validate(&cloud);
+        let _ = repair(&mut cloud);
+    }
+});
