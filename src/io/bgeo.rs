@@ -41,17 +41,8 @@ const FORMAT: &str = "BGEO";
 /// malformed attribute definitions, unsupported attribute types, truncated point data, or an
 /// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_described(path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_described(
-    path: &Path,
-    opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
-    let raw = read_file(path)?;
-    read_bytes_described(&raw, path, opts)
+    read_bytes(&read_file(path)?, path, opts)
 }
 
 /// Reads a BGEO file's content (plain or gzip) already in memory, as [`read`] does; `path` only

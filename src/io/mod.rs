@@ -285,14 +285,17 @@ pub fn read_cloud_described(
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    match detect_format(path)? {
-        CloudFormat::Ply => ply::read_described(path, opts),
-        CloudFormat::VtkLegacy => vtk::read_described(path, opts),
-        CloudFormat::VtkXml => vtu::read_described(path, opts),
-        CloudFormat::Bgeo => bgeo::read_described(path, opts),
-        CloudFormat::Csv => csv::read_described(path, opts),
-        CloudFormat::FrameFolder => frame_folder::read_described(path, opts),
-    }
+    // Formats read whole from memory share one path: the file's bytes, then the reader.
+    let whole = match detect_format(path)? {
+        CloudFormat::Ply => return ply::read_described(path, opts),
+        CloudFormat::FrameFolder => return frame_folder::read_described(path, opts),
+        CloudFormat::VtkLegacy => vtk::read_bytes_described,
+        CloudFormat::VtkXml => vtu::read_bytes_described,
+        CloudFormat::Bgeo => bgeo::read_bytes_described,
+        CloudFormat::Csv => csv::read_bytes_described,
+    };
+    opts.check()?;
+    whole(&read_file(path)?, path, opts)
 }
 
 /// What filmsplat reads a stored attribute as.

@@ -33,17 +33,8 @@ const FORMAT: &str = "VTK legacy";
 /// unsupported dataset or type, or an attribute named in `opts` that is missing;
 /// [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_described(path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_described(
-    path: &Path,
-    opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
-    let bytes = read_file(path)?;
-    read_bytes_described(&bytes, path, opts)
+    read_bytes(&read_file(path)?, path, opts)
 }
 
 /// Reads a VTK legacy file's content already in memory, as [`read`] does; `path` only names the

@@ -40,17 +40,8 @@ const MAX_ZLIB_RATIO: u64 = 1100;
 /// compressors, sizes that disagree with `NumberOfPoints`, truncated or corrupt data, or an
 /// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_described(path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_described(
-    path: &Path,
-    opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
-    let bytes = read_file(path)?;
-    read_bytes_described(&bytes, path, opts)
+    read_bytes(&read_file(path)?, path, opts)
 }
 
 /// Reads a VTK XML file's content already in memory, as [`read`] does; `path` only names the
