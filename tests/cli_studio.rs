@@ -194,6 +194,32 @@ fn mesh_props_render_and_bad_meshes_name_file_and_line() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.exists());
+    // A PLY mesh (faces) works as a prop too, through the same reader as compared meshes.
+    let ply = tmp("ball.ply");
+    let (code, _, err) = filmsplat(&[
+        "sample",
+        "bubble-mesh",
+        "--subdivisions",
+        "1",
+        "-o",
+        ply.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let with_ply = write("mesh-ply.toml", &scene(ply.to_str().unwrap()));
+    let out_ply = tmp("mesh-ply.png");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &with_ply,
+        "-o",
+        out_ply.to_str().unwrap(),
+        "--size",
+        "48x32",
+        "--spp",
+        "1",
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out_ply.exists());
     for (file, needles) in [
         (
             "broken.obj",
