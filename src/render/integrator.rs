@@ -243,9 +243,16 @@ fn render_pixel(
     let camera = &tr.scene.camera;
     let mut p = Pixel::default();
     let mut hit_samples = 0u32;
+    // Other counts: the R2 low-discrepancy sequence (M. Roberts, "The unreasonable effectiveness
+    // of quasirandom sequences", 2018), shifted by one random offset per pixel.
+    let r2_offset = if s.spp > 1 && !square {
+        (st.rng.next_f32(), st.rng.next_f32())
+    } else {
+        (0.0, 0.0)
+    };
     for i in 0..s.spp {
-        // Sub-pixel position: the centre for 1 spp, jittered strata for square counts, else
-        // uniform jitter.
+        // Sub-pixel position: the centre for 1 spp, jittered strata for square counts, else the
+        // shifted R2 sequence.
         let rng = &mut st.rng;
         let (jx, jy) = if s.spp == 1 {
             (0.5, 0.5)
@@ -256,7 +263,11 @@ fn render_pixel(
                 (b as f32 + rng.next_f32()) / strata as f32,
             )
         } else {
-            (rng.next_f32(), rng.next_f32())
+            const R2: (f32, f32) = (0.754_877_7, 0.569_840_3);
+            (
+                (r2_offset.0 + i as f32 * R2.0).fract(),
+                (r2_offset.1 + i as f32 * R2.1).fract(),
+            )
         };
         u.clear();
         u.extend((0..shader.randoms_per_sample()).map(|_| rng.next_f32()));
