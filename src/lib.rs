@@ -11,14 +11,14 @@
 //! |---|---|---|
 //! | [`optics`] | thin-film Fresnel/Airy reflectance, plain numbers | — |
 //! | [`scene`] | the scene-file description (TOML), pure data | — |
-//! | [`image`] | pixel buffers, tone mapping, PNG/EXR writers, text | — |
+//! | [`image`] | pixel buffers, grading, tone mapping, PNG/EXR, text, metrics (PSNR, SSIM, ΔE) | — |
 //! | [`spectrum`] | CIE tables, sampled wavelengths, colour, film colour | `optics` |
-//! | [`pointcloud`] | the particle cloud and its validation/estimation | — |
+//! | [`pointcloud`] | the particle cloud (and triangle meshes) and its validation/estimation | — |
 //! | [`io`] | readers (PLY, ...) filling a [`pointcloud::PointCloud`] | `pointcloud` |
-//! | [`geometry`] | disks, spheres, BVH, ray queries | `pointcloud` |
+//! | [`geometry`] | disks, spheres, MLS surfaces, triangle meshes, prop shapes, BVH, ray queries | — |
 //! | [`samples`] | synthetic thin-film clouds: the scene gallery (bubble, catenoid, films, drip, ...) sharing one thickness field | `pointcloud` |
 //! | [`figure`] | the interference chart and annotated figures | `spectrum`, `image` |
-//! | [`render`] | camera, environment, integrator, film buffer | all above |
+//! | [`render`] | camera, environment, area lights, materials, presets, the ray-tree integrator (RGB and spectral) | `geometry`, `spectrum`, `optics`, `image` |
 //! | [`pipeline`] | scene description → particles → geometry → image files | all above |
 //! | [`cli`] | command-line front end | all |
 //!
