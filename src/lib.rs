@@ -1,8 +1,8 @@
 //! filmsplat: spectral thin-film rendering of SPH particle clouds, straight from the particles.
 //!
 //! A soap film's colours come from thin-film interference. filmsplat ray-traces the particles of a
-//! thin-film simulation directly (as oriented disks, spheres or a moving-least-squares surface) and shades each film crossing with
-//! the exact Airy reflectance of the particle's thickness.
+//! thin-film simulation directly (as oriented disks, spheres or a moving-least-squares surface)
+//! and shades each film crossing with the exact Airy reflectance of the particle's thickness.
 //!
 //! # Stages and who may import whom
 //! Data flows one way; a module imports only modules listed before it:
