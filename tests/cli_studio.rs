@@ -179,22 +179,7 @@ fn mesh_props_render_and_bad_meshes_name_file_and_line() {
              file = \"{file}\"\nposition = [1.6, -0.8, 0.0]\nscale = 0.3\nmaterial = \"metal\"\n"
         )
     };
-    let ok = write("mesh.toml", &scene("cube.obj"));
-    let out = tmp("mesh.png");
-    let (code, _, err) = filmsplat(&[
-        "render",
-        &ok,
-        "-o",
-        out.to_str().unwrap(),
-        "--size",
-        "48x32",
-        "--spp",
-        "1",
-        "-q",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    assert!(out.exists());
-    // A PLY mesh (faces) works as a prop too, through the same reader as compared meshes.
+    // An OBJ and a PLY mesh (faces; the same readers as compared meshes) both work as props.
     let ply = tmp("ball.ply");
     let (code, _, err) = filmsplat(&[
         "sample",
@@ -205,21 +190,23 @@ fn mesh_props_render_and_bad_meshes_name_file_and_line() {
         ply.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    let with_ply = write("mesh-ply.toml", &scene(ply.to_str().unwrap()));
-    let out_ply = tmp("mesh-ply.png");
-    let (code, _, err) = filmsplat(&[
-        "render",
-        &with_ply,
-        "-o",
-        out_ply.to_str().unwrap(),
-        "--size",
-        "48x32",
-        "--spp",
-        "1",
-        "-q",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    assert!(out_ply.exists());
+    for (name, file) in [("mesh", "cube.obj"), ("mesh-ply", ply.to_str().unwrap())] {
+        let ok = write(&format!("{name}.toml"), &scene(file));
+        let out = tmp(&format!("{name}.png"));
+        let (code, _, err) = filmsplat(&[
+            "render",
+            &ok,
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "48x32",
+            "--spp",
+            "1",
+            "-q",
+        ]);
+        assert_eq!(code, 0, "{file}: {err}");
+        assert!(out.exists(), "{file}");
+    }
     for (file, needles) in [
         (
             "broken.obj",
