@@ -16,8 +16,10 @@ use filmsplat::io::write_ply;
 use filmsplat::pipeline;
 use filmsplat::samples::{BubbleParams, bubble, fibonacci_spacing, fibonacci_sphere};
 use filmsplat::scene::SceneDesc;
-use rayon::prelude::*;
 use std::time::Instant;
+
+mod support;
+use support::{primary_rays, thread_cpu_ns};
 
 fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
     std::env::var(key)
@@ -28,38 +30,12 @@ fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
 
 /// Primary rays per second (millions) and the number of pixels hit.
 fn primary(p: &pipeline::Prepared, w: usize, h: usize) -> (f64, usize) {
-    let aspect = w as f32 / h as f32;
-    let cam = &p.scene.camera;
-    let t = Instant::now();
-    let hits: usize = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            (0..w)
-                .filter(|&x| {
-                    let ray = cam.ray(
-                        (x as f32 + 0.5) / w as f32,
-                        (y as f32 + 0.5) / h as f32,
-                        aspect,
-                    );
-                    p.scene
-                        .geometry
-                        .intersect(&ray, 0.0, f32::INFINITY)
-                        .is_some()
-                })
-                .count()
-        })
-        .sum();
-    ((w * h) as f64 / t.elapsed().as_secs_f64() / 1e6, hits)
-}
-
-/// CPU time of the calling thread in nanoseconds (Linux schedstat), if available.
-fn thread_cpu_ns() -> Option<u64> {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
+    primary_rays(&p.scene.camera, w, h, |ray| {
+        p.scene
+            .geometry
+            .intersect(ray, 0.0, f32::INFINITY)
+            .is_some()
+    })
 }
 
 /// Primary rays per CPU-second of one thread (millions; robust when other processes share the

@@ -16,8 +16,9 @@ use filmsplat::render::{
 use filmsplat::samples::{BubbleParams, bubble};
 use filmsplat::spectrum::WavelengthStrategy;
 use glam::Vec3;
-use rayon::prelude::*;
 use std::time::Instant;
+
+mod support;
 
 fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
     std::env::var(key)
@@ -114,24 +115,9 @@ fn main() {
             w as f32 / h as f32,
         );
         // Primary rays: one closest-hit query per pixel centre, all threads.
-        let aspect = w as f32 / h as f32;
-        let t = Instant::now();
-        let hits: usize = (0..h)
-            .into_par_iter()
-            .map(|y| {
-                (0..w)
-                    .filter(|&x| {
-                        let ray = camera.ray(
-                            (x as f32 + 0.5) / w as f32,
-                            (y as f32 + 0.5) / h as f32,
-                            aspect,
-                        );
-                        geometry.intersect(&ray, 0.0, f32::INFINITY).is_some()
-                    })
-                    .count()
-            })
-            .sum();
-        let primary = (w * h) as f64 / t.elapsed().as_secs_f64() / 1e6;
+        let (primary, hits) = support::primary_rays(&camera, w, h, |ray| {
+            geometry.intersect(ray, 0.0, f32::INFINITY).is_some()
+        });
         let scene = Scene {
             geometry: geometry.into(),
             camera,

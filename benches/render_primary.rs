@@ -14,6 +14,9 @@ use filmsplat::geometry::{Primitive, Ray, SplatGeometry, SurfaceHit};
 use glam::Vec3;
 use rayon::prelude::*;
 
+mod support;
+use support::thread_cpu_ns;
+
 const N: usize = 1_000_000;
 const W: usize = 1280;
 const H: usize = 720;
@@ -106,16 +109,6 @@ fn frame_serial_with(g: &SplatGeometry, cam: &Camera, q: Query) -> (f32, u32, u3
     (0..TILES)
         .map(|t| tile_with(g, cam, t, q))
         .fold((0.0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
-}
-
-/// CPU time of the calling thread in nanoseconds (Linux schedstat), if available.
-fn thread_cpu_ns() -> Option<u64> {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
 }
 
 fn frame_parallel(g: &SplatGeometry, cam: &Camera) -> (f32, u32, u32) {
