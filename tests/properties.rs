@@ -12,6 +12,17 @@ use filmsplat::spectrum::{
 };
 use glam::Vec3;
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
+
+/// `cases` cases from a fixed seed, so CI runs the same cases every time (a random seed made a
+/// run fail on a case the others never drew; that case is kept in
+/// `properties.proptest-regressions` and replayed first). Change the seed to explore further.
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        rng_seed: RngSeed::Fixed(0x5eed_f11e),
+        ..ProptestConfig::with_cases(cases)
+    }
+}
 
 fn vec3(lo: f32, hi: f32) -> impl Strategy<Value = Vec3> {
     (lo..hi, lo..hi, lo..hi).prop_map(|(x, y, z)| Vec3::new(x, y, z))
@@ -84,7 +95,7 @@ fn rays() -> impl Strategy<Value = Vec<(Vec3, Vec3, bool)>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(96))]
+    #![proptest_config(config(96))]
 
     #[test]
     fn bvh_disks_equal_brute_force(ps in primitives(), rs in rays()) {
@@ -111,7 +122,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(config(512))]
 
     /// A lossless film: R + T = 1 for each polarisation; 0 <= R <= 1; at normal incidence s
     /// and p are the same wave.
@@ -161,7 +172,7 @@ fn mul(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(config(256))]
 
     /// linear sRGB → XYZ (standard matrix) → linear sRGB (ours) is the identity, and XYZ →
     /// sRGB → XYZ too: our matrix is the inverse of the standard's.
@@ -189,7 +200,11 @@ proptest! {
     }
 
     /// White stays white: with any stratified set of 8..64 wavelengths, a perfect reflector is
-    /// exactly (1, 1, 1) and a grey one (c, c, c); a film that reflects nothing is black.
+    /// exactly (1, 1, 1) and a grey one (c, c, c) in every channel whose weights sum positive
+    /// (white balance divides by that sum). Where a channel's weights cancel or go negative (a
+    /// few jittered wavelengths in the negative lobe of sRGB red), `set_normalised` falls back to
+    /// the exact white integral: the channel is then the unbiased estimate, which the test checks
+    /// against `set_unbiased`. A film that reflects nothing is black.
     #[test]
     fn white_and_grey_spectra_stay_neutral(n in 8usize..64, jitter in prop::collection::vec(0.0f32..1.0, 64),
                                            grey in 0.0f32..1.0) {
@@ -199,9 +214,19 @@ proptest! {
         let w = SpectralWeights::new(&lambda);
         let white = w.spectrum_rgb(&vec![1.0; n]);
         let g = w.spectrum_rgb(&vec![grey; n]);
+        let mut u = SpectralWeights::new(&lambda);
+        u.set_unbiased(&lambda);
+        let unbiased = u.spectrum_rgb(&vec![1.0; n]);
         for c in 0..3 {
-            prop_assert!((white[c] - 1.0).abs() < 1e-4, "{white:?}");
-            prop_assert!((g[c] - grey).abs() < 1e-4, "{g:?}");
+            // The unbiased weights are the raw ones over a positive constant: same sign of sum.
+            let sum: f32 = u.weights().iter().map(|x| x[c]).sum();
+            if sum > 1e-6 {
+                prop_assert!((white[c] - 1.0).abs() < 1e-4, "{white:?}");
+                prop_assert!((g[c] - grey).abs() < 1e-4, "{g:?}");
+            } else {
+                prop_assert!((white[c] - unbiased[c]).abs() < 1e-6, "{white:?} vs {unbiased:?}");
+                prop_assert!((g[c] - grey * unbiased[c]).abs() < 1e-5, "{g:?}");
+            }
         }
         let none = w.film_reflectance_rgb(&FilmFresnel::new(0.7, 1.0), 500.0);
         prop_assert!(none.iter().all(|c| c.abs() < 1e-6), "{none:?}");
@@ -209,7 +234,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(config(24))]
 
     /// White light on a film several µm thick: the interference fringes are far finer than the
     /// eye's colour matching functions, so the reflection is neutral (R ≈ G ≈ B), as for a
