@@ -6,6 +6,8 @@
 //! child with the largest surface area by its two children until it has four (or only leaves
 //! are left). Leaves keep the binary leaves' slot ranges, so slot order is unchanged.
 
+use std::mem::MaybeUninit;
+
 use glam::Vec4;
 
 use super::aabb::{SLAB_ROBUST, safe_inv_dir};
@@ -135,13 +137,14 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
     let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
     let tmin4 = Vec4::splat(t_min);
 
-    let mut inline;
+    // The inline stack is not zeroed (768 bytes per ray showed up as 3% memset in profiles):
+    // entries are written before they are read, and only the `sp` written ones are read.
+    let mut inline = [MaybeUninit::<Entry>::uninit(); INLINE_STACK];
     let mut heap;
-    let stack: &mut [Entry] = if stack_size <= INLINE_STACK {
-        inline = [Entry::default(); INLINE_STACK];
+    let stack: &mut [MaybeUninit<Entry>] = if stack_size <= INLINE_STACK {
         &mut inline
     } else {
-        heap = vec![Entry::default(); stack_size];
+        heap = vec![MaybeUninit::new(Entry::default()); stack_size];
         &mut heap
     };
     let mut sp = 0usize;
@@ -198,7 +201,7 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
                 let sorted = [k0, k1, k2, k3];
                 let nh = mask.count_ones() as usize;
                 for &k in sorted[1..nh].iter().rev() {
-                    stack[sp] = lane((k & 3) as usize);
+                    stack[sp] = MaybeUninit::new(lane((k & 3) as usize));
                     sp += 1;
                 }
                 cur = lane((k0 & 3) as usize);
@@ -211,7 +214,8 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
                 return false;
             }
             sp -= 1;
-            let e = stack[sp];
+            // SAFETY: slots below the old `sp` were written by the push above.
+            let e = unsafe { stack[sp].assume_init() };
             if e.t <= *t_max * SLAB_ROBUST {
                 cur = e;
                 break;
