@@ -20,7 +20,7 @@ use crate::geometry::{FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeom
 use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{ReadOptions, read_cloud};
 use crate::optics::check_film_params;
-use crate::pointcloud::curvature::{curvature_from_table, gradient_from_table};
+use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
 use crate::pointcloud::knn::KnnTable;
 use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
@@ -189,6 +189,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         spp: r.spp.unwrap_or(defaults.spp),
         max_depth: r.max_depth.unwrap_or(defaults.max_depth).min(64),
         min_weight: r.min_weight.unwrap_or(defaults.min_weight),
+        roulette: r.roulette.unwrap_or(0.0),
         seed: r.seed.unwrap_or(0),
         progress,
         light_samples: r.light_samples.unwrap_or(1).clamp(1, 1024),
@@ -203,6 +204,12 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         return Err(Error::invalid(format!(
             "image size must be between 1x1 and 32768x32768, got {}x{}",
             settings.width, settings.height
+        )));
+    }
+    if !(0.0..=1.0).contains(&settings.roulette) {
+        return Err(Error::invalid(format!(
+            "render.roulette must be between 0 (off) and 1, got {}",
+            settings.roulette
         )));
     }
     if settings.spp == 0 {
@@ -389,13 +396,17 @@ fn splats(
     if primitive == Primitive::Disk && desc.film.curvature != Some(false) {
         // First-order splats: normals tilt with the curvature, thickness follows its gradient.
         // Reuse the estimate's neighbour table when it has enough neighbours per particle.
-        let table = match neighbours {
-            Some(t) if t.k >= DETAIL_NEIGHBOURS => t,
-            _ => KnnTable::build(positions, DETAIL_NEIGHBOURS),
+        // Otherwise find the neighbours a slice at a time, so no whole table is ever held
+        // (96 bytes a particle for 12 neighbours).
+        let (curvature, gradient) = match neighbours {
+            Some(t) if t.k >= DETAIL_NEIGHBOURS => (
+                curvature_from_table(positions, normals, &t),
+                gradient_from_table(positions, normals, thickness, &t),
+            ),
+            _ => first_order_detail(positions, normals, thickness, DETAIL_NEIGHBOURS),
         };
-        geometry.set_curvature(&curvature_from_table(positions, normals, &table))?;
-        geometry
-            .set_thickness_gradient(&gradient_from_table(positions, normals, thickness, &table))?;
+        geometry.set_curvature(&curvature)?;
+        geometry.set_thickness_gradient(&gradient)?;
     }
     Ok(geometry)
 }

@@ -100,7 +100,18 @@ impl KnnTable {
 
     /// Like [`KnnTable::build`] with an existing index over the same positions.
     pub fn build_with(index: &PointIndex, positions: &[Vec3], k: usize) -> Self {
-        let n = positions.len();
+        Self::build_rows(index, positions, k, 0..positions.len())
+    }
+
+    /// The rows of the particles in `rows` only (row `r` of the result holds the neighbours of
+    /// particle `rows.start + r`), for working through a large cloud a slice at a time.
+    pub fn build_rows(
+        index: &PointIndex,
+        positions: &[Vec3],
+        k: usize,
+        rows: std::ops::Range<usize>,
+    ) -> Self {
+        let (first, n) = (rows.start, rows.len());
         let mut idx = vec![NO_NEIGHBOUR; n * k];
         let mut dist = vec![f32::INFINITY; n * k];
         if k > 0 {
@@ -108,7 +119,8 @@ impl KnnTable {
                 .zip(dist.par_chunks_mut(k))
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, (ri, rd))| {
+                .for_each(|(r, (ri, rd))| {
+                    let i = first + r;
                     let p = positions[i];
                     if !p.is_finite() {
                         return;
