@@ -29,6 +29,8 @@ struct Setting {
     wavelengths: usize,
     spp: u32,
     max_depth: u32,
+    /// Russian roulette threshold (0: the full ray tree).
+    roulette: f32,
 }
 
 struct Row {
@@ -52,6 +54,7 @@ fn run(p: &mut Prepared, s: &Setting, ior: f32) -> (f64, RgbImage) {
     p.shader = FilmShader::new(ior, s.shading, s.wavelengths, WavelengthStrategy::Jittered);
     p.settings.spp = s.spp;
     p.settings.max_depth = s.max_depth;
+    p.settings.roulette = s.roulette;
     let t = Instant::now();
     let out = pipeline::render(p).expect("render");
     let secs = t.elapsed().as_secs_f64();
@@ -87,23 +90,33 @@ fn main() {
         wavelengths: 32,
         spp: 64,
         max_depth: 24,
+        roulette: 0.0,
     };
     let mut settings = Vec::new();
     for spp in [1, 4, 16] {
         for max_depth in [4, 12] {
-            settings.push(Setting {
+            let lut = Setting {
                 shading: ShadingMode::Lut,
                 wavelengths: 0,
                 spp,
                 max_depth,
-            });
+                roulette: 0.0,
+            };
+            settings.push(lut.clone());
             for wavelengths in [8, 16] {
                 settings.push(Setting {
                     shading: ShadingMode::Rgb,
                     wavelengths,
-                    spp,
-                    max_depth,
+                    ..lut.clone()
                 });
+            }
+            if max_depth == 12 {
+                for roulette in [0.1, 0.3] {
+                    settings.push(Setting {
+                        roulette,
+                        ..lut.clone()
+                    });
+                }
             }
         }
     }
@@ -128,8 +141,8 @@ fn main() {
             let (secs, img) = run(&mut p, s, ior);
             let de = delta_e_stats(&img, &ref_img).expect("same size");
             eprintln!(
-                "  {:?} {} wl {} spp depth {}: {:.3} s, mean dE {:.3}",
-                s.shading, s.wavelengths, s.spp, s.max_depth, secs, de.mean
+                "  {:?} {} wl {} spp depth {} roulette {}: {:.3} s, mean dE {:.3}",
+                s.shading, s.wavelengths, s.spp, s.max_depth, s.roulette, secs, de.mean
             );
             rows.push(Row {
                 primitive: prim.to_string(),
@@ -155,14 +168,14 @@ fn main() {
     let mut md = format!(
         "bubble sample, {particles} particles, {w}x{h}; time = estimate + build + render (s); \
          error vs a {}-spp, {}-wavelength rgb render of the same primitive at depth {}; \
-         ★ = Pareto front\n\n| primitive | shading | wavelengths | spp | max depth | time (s) | \
-         mean ΔE00 | p95 ΔE00 | |\n|---|---|---|---|---|---|---|---|---|\n",
+         ★ = Pareto front\n\n| primitive | shading | wavelengths | spp | max depth | roulette | \
+         time (s) | mean ΔE00 | p95 ΔE00 | |\n|---|---|---|---|---|---|---|---|---|---|\n",
         reference.spp, reference.wavelengths, reference.max_depth
     );
     for r in &rows {
         let s = &r.setting;
         md += &format!(
-            "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {} |\n",
             r.primitive,
             format!("{:?}", s.shading).to_lowercase(),
             if s.shading == ShadingMode::Lut {
@@ -172,6 +185,11 @@ fn main() {
             },
             s.spp,
             s.max_depth,
+            if s.roulette > 0.0 {
+                s.roulette.to_string()
+            } else {
+                "—".to_string()
+            },
             r.seconds,
             r.de_mean,
             r.de_p95,

@@ -186,6 +186,8 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         (vec!["render", &ok, "--primitive", "cube"], "cube"),
         (vec!["render", &ok, "--shading", "magic"], "magic"),
         (vec!["render", &ok, "--ior", "0.5"], "ior"),
+        (vec!["render", &ok, "--roulette", "1.5"], "roulette"),
+        (vec!["render", &ok, "--roulette", "NaN"], "roulette"),
         (
             vec!["render", &ok, "--thickness-unit", "furlong"],
             "furlong",

@@ -252,7 +252,7 @@ def render_cycles(sc, spp, path):
     return time.perf_counter() - t
 
 
-def render_filmsplat(ply, env, camera, size, spp, exr, png, args):
+def render_filmsplat(ply, env, camera, size, spp, exr, png, args, roulette=0.0):
     cmd = [
         FILMSPLAT, "render", ply, "-o", png, "--exr", exr,
         "--primitive", "sphere", "--radius-scale", str(args.radius_scale),
@@ -262,6 +262,7 @@ def render_filmsplat(ply, env, camera, size, spp, exr, png, args):
         "--camera", ",".join(f"{v:.6f}" for v in camera["position"]),
         "--look-at", ",".join(f"{v:.6f}" for v in camera["look_at"]),
         "--fov", str(camera["fov"]),
+        "--roulette", str(roulette),
     ]
     t = time.perf_counter()
     subprocess.run(cmd, check=True)
@@ -281,6 +282,9 @@ def main():
     ap.add_argument("--ior", type=float, default=1.33)
     ap.add_argument("--max-depth", type=int, default=12)
     ap.add_argument("--shading", default="lut")
+    ap.add_argument("--roulette", default="0",
+                    help="comma-separated filmsplat --roulette values to time (0: the full ray "
+                         "tree); the reference is always rendered without roulette")
     args = ap.parse_args()
     size = tuple(int(v) for v in args.size.split("x"))
     os.makedirs(args.out, exist_ok=True)
@@ -300,20 +304,29 @@ def main():
     camera = {"position": (centre + dist * d).tolist(), "look_at": centre.tolist(), "fov": fov}
 
     rows = []
-    fs = {}
-    for spp in [args.filmsplat_ref_spp] + [int(s) for s in args.filmsplat_spp.split(",")]:
-        exr = os.path.join(args.out, f"filmsplat_{spp}.exr")
-        png = os.path.join(args.out, f"filmsplat_{spp}.png")
-        fs[spp] = (render_filmsplat(ply, env, camera, size, spp, exr, png, args), exr)
+    ref_exr = os.path.join(args.out, f"filmsplat_{args.filmsplat_ref_spp}.exr")
+    ref_png = os.path.join(args.out, f"filmsplat_{args.filmsplat_ref_spp}.png")
+    render_filmsplat(ply, env, camera, size, args.filmsplat_ref_spp, ref_exr, ref_png, args)
+    runs = {}
+    for rr in [float(v) for v in args.roulette.split(",")]:
+        name = "filmsplat" if rr == 0 else f"filmsplat, roulette {rr:g}"
+        tag = "" if rr == 0 else f"_rr{rr:g}"
+        runs[name] = {}
+        for spp in [int(s) for s in args.filmsplat_spp.split(",")]:
+            exr = os.path.join(args.out, f"filmsplat{tag}_{spp}.exr")
+            png = os.path.join(args.out, f"filmsplat{tag}_{spp}.png")
+            runs[name][spp] = (render_filmsplat(ply, env, camera, size, spp, exr, png, args, rr), exr)
     sc = setup_cycles(cloud, camera, env, size, args.radius_scale, args.ior, args.max_depth)
     cy = {}
     for spp in [int(s) for s in args.cycles_spp.split(",")] + [args.cycles_ref_spp]:
         exr = os.path.join(args.out, f"cycles_{spp}.exr")
         cy[spp] = (render_cycles(sc, spp, exr), exr)
-    fs_ref = read_exr_rgb(fs[args.filmsplat_ref_spp][1])
+    fs_ref = read_exr_rgb(ref_exr)
     cy_ref = read_exr_rgb(cy[args.cycles_ref_spp][1])
-    for name, runs, ref in [("filmsplat", fs, fs_ref), ("cycles", cy, cy_ref)]:
-        for spp, (secs, exr) in sorted(runs.items()):
+    del cy[args.cycles_ref_spp]
+    groups = [(name, r, fs_ref) for name, r in runs.items()] + [("cycles", cy, cy_ref)]
+    for name, by_spp, ref in groups:
+        for spp, (secs, exr) in sorted(by_spp.items()):
             m, p95 = delta_e(read_exr_rgb(exr), ref)
             rows.append({"renderer": name, "spp": spp, "seconds": secs, "de_mean": m, "de_p95": p95})
     cross = delta_e(fs_ref, cy_ref)

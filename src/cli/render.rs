@@ -58,6 +58,11 @@ pub struct RenderArgs {
     /// Most film crossings along one path.
     #[arg(long)]
     pub(super) max_depth: Option<u32>,
+    /// Russian roulette below this branch weight (0..1; 0, the default, is off): dim branches
+    /// of the ray tree are followed at random, unbiased. Fewer rays for some noise; pays for
+    /// --primitive sphere, where a camera sample crosses many films.
+    #[arg(long)]
+    pub(super) roulette: Option<f32>,
     /// Film index of refraction (default 1.33).
     #[arg(long)]
     pub(super) ior: Option<f32>,
@@ -223,6 +228,7 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.render.wavelengths, a.wavelengths);
     set!(d.render.strategy, a.strategy);
     set!(d.render.max_depth, a.max_depth);
+    set!(d.render.roulette, a.roulette);
     set!(d.film.ior, a.ior);
     set!(d.film.thickness_unit, a.thickness_unit);
     set!(d.film.thickness_scale, a.thickness_scale);

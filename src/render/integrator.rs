@@ -67,6 +67,11 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// Branches whose RGB weight falls below this escape to the environment.
     pub min_weight: f32,
+    /// Russian roulette below this branch weight (0 = off, the deterministic ray tree): a
+    /// branch of weight w < `roulette` is followed with probability w / `roulette`, otherwise
+    /// it escapes to the environment. Unbiased (the escape view is a control variate); trades
+    /// rays for noise in dim branches, which pays where crossings are many (spheres).
+    pub roulette: f32,
     /// Random seed: the same seed gives the same image.
     pub seed: u64,
     /// Draw a progress bar on stderr (only when it is a terminal).
@@ -88,6 +93,7 @@ impl Default for RenderSettings {
             spp: 4,
             max_depth: 12,
             min_weight: 1e-3,
+            roulette: 0.0,
             seed: 0,
             progress: false,
             light_samples: 1,

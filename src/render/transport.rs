@@ -86,8 +86,24 @@ impl<'a> Tracer<'a> {
         weight: L::C,
         st: &mut PathState,
     ) -> L::C {
-        if depth >= self.settings.max_depth || weight.max_channel() < self.settings.min_weight {
+        let w = weight.max_channel();
+        if depth >= self.settings.max_depth || w < self.settings.min_weight {
             return self.escape(l, ray, t_min);
+        }
+        let roulette = self.settings.roulette;
+        if w < roulette {
+            // Russian roulette with the pruned branch's view as control variate: the branch is
+            // followed with probability q = w / roulette (then at weight ≥ roulette) and its
+            // difference from the escape radiance counts 1/q times. Unbiased, and it adds
+            // little noise where the branch sees about what it would see escaping.
+            let q = w / roulette;
+            let esc = self.escape(l, ray, t_min);
+            if st.rng.next_f32() >= q {
+                return esc;
+            }
+            let boost = weight * (1.0 / q);
+            let full = self.nearest(l, ray, t_min, depth, boost, st).0;
+            return esc + (full - esc) * (1.0 / q);
         }
         self.nearest(l, ray, t_min, depth, weight, st).0
     }

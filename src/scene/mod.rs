@@ -214,6 +214,9 @@ pub struct RenderDesc {
     /// Branch weight below which a path escapes to the environment (default: from the preset,
     /// 1e-3 for balanced).
     pub min_weight: Option<f32>,
+    /// Russian roulette below this branch weight, 0..1 (default 0: off, every branch above
+    /// `min_weight` is followed). Fewer rays, some noise; pays for spheres.
+    pub roulette: Option<f32>,
     /// Random seed (default 0).
     pub seed: Option<u64>,
     /// "lut" (default), "rgb" or "spectral".
