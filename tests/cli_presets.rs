@@ -46,3 +46,41 @@ fn presets_set_samples_and_flags_override_them() {
         "{err}"
     );
 }
+
+/// Spheres get Russian roulette from the balanced and final presets (their ray trees are long);
+/// disks, MLS and the preview preset do not, and `render.roulette` given in the scene wins.
+#[test]
+fn sphere_presets_play_roulette_unless_told_otherwise() {
+    use filmsplat::pipeline::prepare;
+    use filmsplat::scene::SceneDesc;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (extra, want) in [
+        ("[film]\nprimitive = \"sphere\"\n", 0.1),
+        (
+            "[film]\nprimitive = \"sphere\"\n[render]\npreset = \"final\"\n",
+            0.1,
+        ),
+        (
+            "[film]\nprimitive = \"sphere\"\n[render]\npreset = \"preview\"\n",
+            0.0,
+        ),
+        (
+            "[film]\nprimitive = \"sphere\"\n[render]\nroulette = 0.0\n",
+            0.0,
+        ),
+        (
+            "[film]\nprimitive = \"disk\"\n[render]\npreset = \"final\"\n",
+            0.0,
+        ),
+        ("[film]\nprimitive = \"mls\"\n", 0.0),
+        (
+            "[film]\nprimitive = \"disk\"\n[render]\nroulette = 0.3\n",
+            0.3,
+        ),
+    ] {
+        let text = format!("[input]\nsample = \"bubble\"\nparticles = 2000\n{extra}");
+        let desc = SceneDesc::from_toml(&text, "test.toml").unwrap();
+        let p = prepare(&desc, root, false).unwrap();
+        assert_eq!(p.settings.roulette, want, "{extra}");
+    }
+}

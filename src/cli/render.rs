@@ -31,8 +31,9 @@ pub struct RenderArgs {
     pub(super) primitive: Option<String>,
     /// Settings preset: preview (1 spp, 4 crossings), balanced (the default: 4 spp, 12
     /// crossings) or final (16 spp, 16 crossings), points on the measured speed/accuracy front.
-    /// Given here it replaces the scene file's spp, max_depth, min_weight, shading and
-    /// wavelengths; the flags for those still override it.
+    /// Given here it replaces the scene file's spp, max_depth, min_weight, roulette, shading
+    /// and wavelengths; the flags for those still override it. For spheres balanced and final
+    /// also play Russian roulette below weight 0.1 (see --roulette).
     #[arg(long)]
     pub(super) preset: Option<String>,
     /// Camera samples per pixel.
@@ -60,7 +61,8 @@ pub struct RenderArgs {
     pub(super) max_depth: Option<u32>,
     /// Russian roulette below this branch weight (0..1; 0, the default, is off): dim branches
     /// of the ray tree are followed at random, unbiased. Fewer rays for some noise; pays for
-    /// --primitive sphere, where a camera sample crosses many films.
+    /// --primitive sphere, where a camera sample crosses many films (the balanced and final
+    /// presets use 0.1 there).
     #[arg(long)]
     pub(super) roulette: Option<f32>,
     /// Film index of refraction (default 1.33).
@@ -219,6 +221,7 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
         let r = &mut d.render;
         (r.spp, r.max_depth, r.min_weight, r.shading, r.wavelengths) =
             (None, None, None, None, None);
+        r.roulette = None;
         r.preset = Some(p.clone());
     }
     set!(d.film.primitive, a.primitive);

@@ -189,7 +189,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         spp: r.spp.unwrap_or(defaults.spp),
         max_depth: r.max_depth.unwrap_or(defaults.max_depth).min(64),
         min_weight: r.min_weight.unwrap_or(defaults.min_weight),
-        roulette: r.roulette.unwrap_or(0.0),
+        roulette: r.roulette.unwrap_or(preset.roulette(primitive)),
         seed: r.seed.unwrap_or(0),
         progress,
         light_samples: r.light_samples.unwrap_or(1).clamp(1, 1024),

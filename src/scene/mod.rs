@@ -200,8 +200,8 @@ pub struct EnvironmentDesc {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderDesc {
-    /// "preview", "balanced" (default) or "final": fills spp, max_depth, min_weight, shading and
-    /// wavelengths where they are not set.
+    /// "preview", "balanced" (default) or "final": fills spp, max_depth, min_weight, roulette,
+    /// shading and wavelengths where they are not set.
     pub preset: Option<String>,
     /// Image width, pixels (default 960).
     pub width: Option<usize>,
@@ -214,8 +214,9 @@ pub struct RenderDesc {
     /// Branch weight below which a path escapes to the environment (default: from the preset,
     /// 1e-3 for balanced).
     pub min_weight: Option<f32>,
-    /// Russian roulette below this branch weight, 0..1 (default 0: off, every branch above
-    /// `min_weight` is followed). Fewer rays, some noise; pays for spheres.
+    /// Russian roulette below this branch weight, 0..1 (default from the preset: 0.1 for
+    /// spheres at balanced and final, otherwise 0 = off, every branch above `min_weight` is
+    /// followed). Fewer rays, some noise; pays for spheres.
     pub roulette: Option<f32>,
     /// Random seed (default 0).
     pub seed: Option<u64>,
