@@ -25,6 +25,7 @@ mod mls;
 pub mod primitives;
 pub mod props;
 mod query;
+mod sphere4;
 mod splat;
 mod wide;
 

@@ -16,7 +16,9 @@
 
 use super::blend::{LayerSum, kernel};
 use super::disk4::DiskRay4;
-use super::primitives::{intersect_disk, intersect_sphere, sphere_roots};
+use super::primitives::{intersect_disk, sphere_roots};
+use super::sphere4::SphereRay4;
+use super::splat::SpherePrim;
 use super::{Ray, SplatGeometry, SurfaceHit};
 
 /// Candidate buffer of the single-pass layer search (entries of 12 bytes on the stack).
@@ -200,19 +202,55 @@ impl SplatGeometry {
         })
     }
 
-    /// Closest sphere crossing; ties in `t` go to the lowest particle index.
+    /// Sphere packets of the slots `first .. first + count`: (first slot, four spheres, lanes in
+    /// range). The sphere array is padded, so four spheres can be read from any slot.
+    #[inline(always)]
+    fn sphere_packets(
+        &self,
+        (first, count): (u32, u32),
+    ) -> impl Iterator<Item = (usize, &[SpherePrim; 4], usize)> {
+        let end = first as usize + count as usize;
+        (first as usize..end)
+            .step_by(4)
+            .filter_map(move |s| Some((s, self.spheres[s..].first_chunk::<4>()?, (end - s).min(4))))
+    }
+
+    /// True if any sphere is crossed with `t_min < t < t_max`.
+    pub(super) fn any_sphere(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let r4 = SphereRay4::new(ray);
+        self.bvh.any_leaves(ray, t_min, t_max, |first, count| {
+            self.sphere_packets((first, count))
+                .any(|(_, packet, lanes)| r4.test(packet, lanes, t_min, t_max).1 != 0)
+        })
+    }
+
+    /// Closest sphere crossing; ties in `t` go to the lowest particle index. Leaves are tested
+    /// four spheres at a time (`sphere4`, bit-identical to the scalar test), the hits then
+    /// handled in slot order as the scalar loop did.
     pub(super) fn sphere_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         let mut best: Option<(u32, f32)> = None;
-        self.bvh.closest(ray, t_min, t_max, |s, lim| {
-            let p = &self.spheres[s as usize];
-            let hi = if best.is_some() { lim.next_up() } else { t_max };
-            if let Some(t) = intersect_sphere(ray, p.center, p.radius, t_min, hi)
-                && best.is_none_or(|(bs, bt)| t < bt || self.lower_particle(s, bs))
-            {
-                best = Some((s, t));
-                *lim = t;
-            }
-        });
+        let r4 = SphereRay4::new(ray);
+        // Inclusive of the current closest `t` (ties), as `intersect_sphere(.., hi)`.
+        let hi = |best: Option<(u32, f32)>, lim: f32| {
+            if best.is_some() { lim.next_up() } else { t_max }
+        };
+        self.bvh
+            .closest_leaves(ray, t_min, t_max, |first, count, lim| {
+                for (s, packet, lanes) in self.sphere_packets((first, count)) {
+                    let (t4, mut m) = r4.test(packet, lanes, t_min, hi(best, *lim));
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let (slot, t) = ((s + i) as u32, t4[i]);
+                        if t < hi(best, *lim)
+                            && best.is_none_or(|(bs, bt)| t < bt || self.lower_particle(slot, bs))
+                        {
+                            best = Some((slot, t));
+                            *lim = t;
+                        }
+                    }
+                }
+            });
         let (slot, t) = best?;
         let p = &self.spheres[slot as usize];
         let position = ray.at(t);

@@ -4,7 +4,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::disk4::{PAD, PAD_DISK};
-use super::primitives::{disk_bounds, intersect_sphere, sphere_bounds};
+use super::primitives::{disk_bounds, sphere_bounds};
+use super::sphere4::{PAD as SPHERE_PAD, PAD_SPHERE};
 use super::{Aabb, Bvh, BvhParams, LayerBlend, Primitive, Ray};
 use crate::{Error, Result};
 
@@ -43,7 +44,7 @@ pub(super) struct DiskPrim {
     pub thickness: f32,
 }
 
-/// A sphere in slot order (20 bytes).
+/// A sphere in slot order (20 bytes). The array is followed by padding spheres (`sphere4`).
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub(super) struct SpherePrim {
@@ -231,17 +232,17 @@ impl SplatGeometry {
                 (disks, Vec::new())
             }
             Primitive::Sphere | Primitive::Mls => {
-                let spheres = order
-                    .par_iter()
-                    .map(|&i| {
-                        let i = i as usize;
-                        SpherePrim {
-                            center: positions[i],
-                            radius: radii[i],
-                            thickness: thickness_nm[i],
-                        }
-                    })
-                    .collect();
+                // Padded for the four-wide leaf test (see `sphere4`).
+                let mut spheres: Vec<SpherePrim> = Vec::with_capacity(n + SPHERE_PAD);
+                spheres.par_extend(order.par_iter().map(|&i| {
+                    let i = i as usize;
+                    SpherePrim {
+                        center: positions[i],
+                        radius: radii[i],
+                        thickness: thickness_nm[i],
+                    }
+                }));
+                spheres.extend([PAD_SPHERE; SPHERE_PAD]);
                 (Vec::new(), spheres)
             }
         };
@@ -303,10 +304,7 @@ impl SplatGeometry {
         }
         match self.primitive {
             Primitive::Disk => self.any_disk(ray, t_min, t_max),
-            Primitive::Sphere | Primitive::Mls => self.bvh.any(ray, t_min, t_max, |s| {
-                let p = &self.spheres[s as usize];
-                intersect_sphere(ray, p.center, p.radius, t_min, t_max).is_some()
-            }),
+            Primitive::Sphere | Primitive::Mls => self.any_sphere(ray, t_min, t_max),
         }
     }
 

@@ -1,0 +1,152 @@
+//! Four ray–sphere tests at once (SSE lanes via glam's `Vec4`), for the leaves of the sphere BVH.
+//!
+//! The lanes evaluate exactly the operations of [`sphere_roots`](super::primitives::sphere_roots)
+//! and [`intersect_sphere`](super::primitives::intersect_sphere) in the same order (no fused
+//! multiply-add), so each lane's `t` is bit-identical to the scalar test and hit/miss decisions
+//! agree with it.
+
+use glam::{Mat4, Vec4};
+
+use super::Ray;
+use super::splat::SpherePrim;
+
+/// Spheres the slot array is padded with, so a packet starting at any slot can read four: a
+/// NaN centre, which no ray hits.
+pub(super) const PAD_SPHERE: SpherePrim = SpherePrim {
+    center: glam::Vec3::NAN,
+    radius: 0.0,
+    thickness: 0.0,
+};
+
+/// Number of [`PAD_SPHERE`]s after the last sphere.
+pub(super) const PAD: usize = 3;
+
+/// A ray splatted into lanes.
+pub(super) struct SphereRay4 {
+    ox: Vec4,
+    oy: Vec4,
+    oz: Vec4,
+    dx: Vec4,
+    dy: Vec4,
+    dz: Vec4,
+}
+
+impl SphereRay4 {
+    /// Splats `ray` into lanes.
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> SphereRay4 {
+        let (o, d) = (ray.origin, ray.dir);
+        SphereRay4 {
+            ox: Vec4::splat(o.x),
+            oy: Vec4::splat(o.y),
+            oz: Vec4::splat(o.z),
+            dx: Vec4::splat(d.x),
+            dy: Vec4::splat(d.y),
+            dz: Vec4::splat(d.z),
+        }
+    }
+
+    /// The first crossing with `t_min < t < t_max` of each of the spheres `spheres[0..4]` (the
+    /// entry point, or the exit point for a ray starting inside), and a bit mask (bit `i` for
+    /// lane `i`) of the lanes that have one; lanes at or beyond `lanes` are masked off.
+    #[inline(always)]
+    pub fn test(
+        &self,
+        spheres: &[SpherePrim; 4],
+        lanes: usize,
+        t_min: f32,
+        t_max: f32,
+    ) -> (Vec4, u32) {
+        let cr = |s: &SpherePrim| Vec4::new(s.center.x, s.center.y, s.center.z, s.radius);
+        let c = Mat4::from_cols(
+            cr(&spheres[0]),
+            cr(&spheres[1]),
+            cr(&spheres[2]),
+            cr(&spheres[3]),
+        )
+        .transpose();
+        // Same expression order as `sphere_roots`.
+        let (fx, fy, fz) = (self.ox - c.x_axis, self.oy - c.y_axis, self.oz - c.z_axis);
+        let b = -(fx * self.dx + fy * self.dy + fz * self.dz);
+        let (px, py, pz) = (fx + b * self.dx, fy + b * self.dy, fz + b * self.dz);
+        let r2 = c.w_axis * c.w_axis;
+        let disc = r2 - (px * px + py * py + pz * pz);
+        let real = disc.cmpge(Vec4::ZERO); // false for NaN
+        let cc = (fx * fx + fy * fy + fz * fz) - r2;
+        let q = b + disc.sqrt().copysign(b);
+        // q == 0: origin on the sphere, ray tangent: a double root at 0.
+        let zero = q.cmpeq(Vec4::ZERO);
+        let ta = Vec4::select(zero, Vec4::ZERO, cc / q);
+        let tb = Vec4::select(zero, Vec4::ZERO, q);
+        let (t0, t1) = (ta.min(tb), ta.max(tb));
+        let (lo, hi) = (Vec4::splat(t_min), Vec4::splat(t_max));
+        let in0 = t0.cmpgt(lo) & t0.cmplt(hi);
+        let in1 = t1.cmpgt(lo) & t1.cmplt(hi);
+        let t = Vec4::select(in0, t0, t1);
+        let mask = (real & (in0 | in1)).bitmask() & ((1u32 << lanes) - 1);
+        (t, mask)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::primitives::intersect_sphere;
+    use glam::Vec3;
+
+    /// Every lane agrees bit for bit with the scalar test: rays from outside, from inside, on
+    /// the surface, tangent and missing, masked-off lanes and padding spheres.
+    #[test]
+    fn lanes_match_scalar_sphere_test() {
+        let mut s = 0x9e37_79b9u32;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        let mut hits = 0;
+        for k in 0..4000 {
+            let mut spheres = [PAD_SPHERE; 4];
+            for p in spheres.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
+                *p = SpherePrim {
+                    center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
+                    radius: 0.05 + 0.3 * rnd().abs(),
+                    thickness: 0.0,
+                };
+            }
+            let c = spheres[k % 2].center;
+            let r = spheres[k % 2].radius;
+            let (origin, dir) = match k % 4 {
+                // From inside.
+                0 => (
+                    c + Vec3::new(rnd(), rnd(), rnd()) * 0.3 * r,
+                    Vec3::new(rnd(), rnd(), 1.0),
+                ),
+                // From exactly on the surface (x axis), tangent or not.
+                1 => (c + Vec3::X * r, if k % 8 == 1 { Vec3::Y } else { -Vec3::X }),
+                // Aimed near a centre from outside.
+                _ => {
+                    let o = Vec3::new(rnd(), rnd(), rnd() + 2.0);
+                    (o, c + Vec3::new(rnd(), rnd(), rnd()) * 0.2 - o)
+                }
+            };
+            let ray = Ray::new(origin, dir);
+            let (t_min, t_max) = if k % 3 == 0 { (0.1, 2.0) } else { (0.0, 10.0) };
+            let lanes = 1 + k % 4;
+            let (t, mask) = SphereRay4::new(&ray).test(&spheres, lanes, t_min, t_max);
+            for (i, p) in spheres.iter().enumerate() {
+                let want =
+                    intersect_sphere(&ray, p.center, p.radius, t_min, t_max).filter(|_| i < lanes);
+                let got = (mask & (1 << i) != 0).then(|| t[i]);
+                assert_eq!(
+                    got.map(f32::to_bits),
+                    want.map(f32::to_bits),
+                    "case {k} lane {i}"
+                );
+                hits += got.is_some() as usize;
+            }
+        }
+        assert!(hits > 2000, "only {hits} hits");
+    }
+}
