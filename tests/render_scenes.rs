@@ -72,34 +72,7 @@ fn a_disk_seen_head_on_has_the_colour_of_its_film() {
 
 #[test]
 fn a_white_furnace_makes_a_lossless_film_vanish() {
-    let cloud = bubble(&BubbleParams {
-        particles: 4000,
-        ..BubbleParams::default()
-    });
-    let geometry = SplatGeometry::build(
-        Primitive::Disk,
-        &cloud.positions,
-        cloud.normals.as_ref().unwrap(),
-        cloud.radius.as_ref().unwrap(),
-        cloud.thickness_nm.as_ref().unwrap(),
-    )
-    .unwrap();
-    let camera = Camera::frame(
-        Vec3::ZERO,
-        1.05,
-        Vec3::new(0.3, 0.2, 1.0),
-        Vec3::Y,
-        40.0,
-        4.0 / 3.0,
-    );
-    let scene = Scene {
-        geometry: geometry.into(),
-        camera,
-        environment: Environment::Uniform(Vec3::ONE),
-        layer_skip: 0.005,
-        epsilon: 1e-5,
-        staging: Default::default(),
-    };
+    let scene = bubble_scene(Primitive::Disk, Environment::Uniform(Vec3::ONE));
     for mode in [ShadingMode::Lut, ShadingMode::Rgb] {
         let shader = FilmShader::new(1.33, mode, 8, WavelengthStrategy::Hero);
         let out = render(&scene, &shader, &settings(32, 24, 2)).unwrap();
@@ -258,16 +231,16 @@ fn no_nan_or_inf_reaches_the_image_at_extremes() {
     assert!(render(&scene, &shader, &settings(10, 10, 0)).is_err());
 }
 
-/// The 4000-particle bubble sample drawn as spheres in the studio environment.
-fn sphere_bubble_scene(env: Environment) -> Scene {
+/// The 4000-particle bubble sample drawn as `primitive`, framed by a camera at 4:3.
+fn bubble_scene(primitive: Primitive, env: Environment) -> Scene {
     let cloud = bubble(&BubbleParams {
         particles: 4000,
         ..BubbleParams::default()
     });
     let geometry = SplatGeometry::build(
-        Primitive::Sphere,
+        primitive,
         &cloud.positions,
-        &[],
+        cloud.normals.as_ref().unwrap(),
         cloud.radius.as_ref().unwrap(),
         cloud.thickness_nm.as_ref().unwrap(),
     )
@@ -297,7 +270,7 @@ fn sphere_bubble_scene(env: Environment) -> Scene {
 #[test]
 fn russian_roulette_keeps_the_mean_with_fewer_rays() {
     let shader = FilmShader::new(1.33, ShadingMode::Lut, 16, WavelengthStrategy::Jittered);
-    let scene = sphere_bubble_scene(Environment::Studio(Default::default()));
+    let scene = bubble_scene(Primitive::Sphere, Environment::Studio(Default::default()));
     let run = |roulette: f32| {
         let (mut sum, mut rays) = (Vec3::ZERO, 0u64);
         let mut first = Vec::new();
@@ -328,7 +301,7 @@ fn russian_roulette_keeps_the_mean_with_fewer_rays() {
     );
     assert_ne!(tree_img, rr_img, "roulette follows some branches at random");
 
-    let furnace = sphere_bubble_scene(Environment::Uniform(Vec3::ONE));
+    let furnace = bubble_scene(Primitive::Sphere, Environment::Uniform(Vec3::ONE));
     let s = RenderSettings {
         roulette: 0.25,
         ..settings(32, 24, 4)

@@ -22,14 +22,15 @@ pub(super) const PAD_DISK: DiskPrim = DiskPrim {
 /// Number of [`PAD_DISK`]s after the last disk.
 pub(super) const PAD: usize = 3;
 
-/// A ray splatted into lanes.
-pub(super) struct DiskRay4 {
-    ox: Vec4,
-    oy: Vec4,
-    oz: Vec4,
-    dx: Vec4,
-    dy: Vec4,
-    dz: Vec4,
+/// A ray splatted into lanes, for the four-wide disk test here and the sphere test in
+/// `sphere4`.
+pub(super) struct Ray4 {
+    pub(super) ox: Vec4,
+    pub(super) oy: Vec4,
+    pub(super) oz: Vec4,
+    pub(super) dx: Vec4,
+    pub(super) dy: Vec4,
+    pub(super) dz: Vec4,
 }
 
 /// Hits of one packet: distances and squared distances to the centres per lane, and a bit mask
@@ -40,12 +41,12 @@ pub(super) struct Hits4 {
     pub mask: u32,
 }
 
-impl DiskRay4 {
+impl Ray4 {
     /// Splats `ray` into lanes.
     #[inline(always)]
-    pub fn new(ray: &Ray) -> DiskRay4 {
+    pub fn new(ray: &Ray) -> Ray4 {
         let (o, d) = (ray.origin, ray.dir);
-        DiskRay4 {
+        Ray4 {
             ox: Vec4::splat(o.x),
             oy: Vec4::splat(o.y),
             oz: Vec4::splat(o.z),
@@ -58,7 +59,7 @@ impl DiskRay4 {
     /// Tests the disks `disks[0..4]` against the ray for `t_min < t < t_max`; lanes at or beyond
     /// `lanes` are masked off. Cost: one 4-lane division and ~30 lane operations.
     #[inline(always)]
-    pub fn test(&self, disks: &[DiskPrim; 4], lanes: usize, t_min: f32, t_max: f32) -> Hits4 {
+    pub fn test_disks(&self, disks: &[DiskPrim; 4], lanes: usize, t_min: f32, t_max: f32) -> Hits4 {
         let cr = |d: &DiskPrim| Vec4::new(d.center.x, d.center.y, d.center.z, d.radius);
         let nt = |d: &DiskPrim| Vec4::new(d.normal.x, d.normal.y, d.normal.z, 0.0);
         let c =
@@ -87,6 +88,17 @@ impl DiskRay4 {
     }
 }
 
+/// A xorshift generator of uniform values in [-1, 1] for the lane tests.
+#[cfg(test)]
+pub(super) fn test_rng(mut s: u32) -> impl FnMut() -> f32 {
+    move || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        s as f32 / u32::MAX as f32 * 2.0 - 1.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,13 +109,7 @@ mod tests {
     /// in a disk's plane, masked-off lanes and padding disks.
     #[test]
     fn lanes_match_scalar_disk_test() {
-        let mut s = 0x2545_f491u32;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s as f32 / u32::MAX as f32 * 2.0 - 1.0
-        };
+        let mut rnd = test_rng(0x2545_f491);
         let mut hits = 0;
         for k in 0..4000 {
             let mut disks = [PAD_DISK; 4];
@@ -127,7 +133,7 @@ mod tests {
             let ray = Ray::new(origin, dir);
             let (t_min, t_max) = if k % 3 == 0 { (0.1, 0.6) } else { (0.0, 10.0) };
             let lanes = 1 + k % 4;
-            let h = DiskRay4::new(&ray).test(&disks, lanes, t_min, t_max);
+            let h = Ray4::new(&ray).test_disks(&disks, lanes, t_min, t_max);
             for (i, d) in disks.iter().enumerate() {
                 let want = intersect_disk(&ray, d.center, d.normal, d.radius, t_min, t_max)
                     .filter(|_| i < lanes);

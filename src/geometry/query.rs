@@ -15,9 +15,8 @@
 //! are then handled one by one in slot order, exactly as the per-slot closures did.
 
 use super::blend::{LayerSum, kernel};
-use super::disk4::DiskRay4;
+use super::disk4::Ray4;
 use super::primitives::{intersect_disk, sphere_roots};
-use super::sphere4::SphereRay4;
 use super::splat::SpherePrim;
 use super::{Ray, SplatGeometry, SurfaceHit};
 
@@ -38,7 +37,7 @@ impl SplatGeometry {
     #[inline(always)]
     fn disk_leaf(
         &self,
-        r4: &DiskRay4,
+        r4: &Ray4,
         (first, count): (u32, u32),
         t_min: f32,
         t_max: f32,
@@ -50,7 +49,7 @@ impl SplatGeometry {
             let Some(packet) = self.disks[s..].first_chunk::<4>() else {
                 break;
             };
-            let h = r4.test(packet, (end - s).min(4), t_min, t_max);
+            let h = r4.test_disks(packet, (end - s).min(4), t_min, t_max);
             let mut m = h.mask;
             while m != 0 {
                 let i = m.trailing_zeros() as usize;
@@ -63,7 +62,7 @@ impl SplatGeometry {
 
     /// True if any disk is hit with `t_min < t < t_max`.
     pub(super) fn any_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let r4 = DiskRay4::new(ray);
+        let r4 = Ray4::new(ray);
         self.bvh.any_leaves(ray, t_min, t_max, |first, count| {
             let mut any = false;
             self.disk_leaf(&r4, (first, count), t_min, t_max, |_, _, _| any = true);
@@ -75,7 +74,7 @@ impl SplatGeometry {
     #[inline]
     pub(super) fn closest_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<DiskHit> {
         let mut best: Option<DiskHit> = None;
-        let r4 = DiskRay4::new(ray);
+        let r4 = Ray4::new(ray);
         self.bvh
             .closest_leaves(ray, t_min, t_max, |first, count, lim| {
                 let hi = if best.is_some() { lim.next_up() } else { t_max };
@@ -100,7 +99,7 @@ impl SplatGeometry {
         let mut cands = [(0u32, 0f32, 0f32); MAX_CANDIDATES];
         let mut nc = 0usize;
         let mut overflow = false;
-        let r4 = DiskRay4::new(ray);
+        let r4 = Ray4::new(ray);
         // The packet test uses the query range (the band limit can grow within a leaf); the
         // exact per-slot limit is applied below, as if each slot were tested on its own.
         self.bvh
@@ -217,10 +216,10 @@ impl SplatGeometry {
 
     /// True if any sphere is crossed with `t_min < t < t_max`.
     pub(super) fn any_sphere(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let r4 = SphereRay4::new(ray);
+        let r4 = Ray4::new(ray);
         self.bvh.any_leaves(ray, t_min, t_max, |first, count| {
             self.sphere_packets((first, count))
-                .any(|(_, packet, lanes)| r4.test(packet, lanes, t_min, t_max).1 != 0)
+                .any(|(_, packet, lanes)| r4.test_spheres(packet, lanes, t_min, t_max).1 != 0)
         })
     }
 
@@ -229,7 +228,7 @@ impl SplatGeometry {
     /// handled in slot order as the scalar loop did.
     pub(super) fn sphere_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         let mut best: Option<(u32, f32)> = None;
-        let r4 = SphereRay4::new(ray);
+        let r4 = Ray4::new(ray);
         // Inclusive of the current closest `t` (ties), as `intersect_sphere(.., hi)`.
         let hi = |best: Option<(u32, f32)>, lim: f32| {
             if best.is_some() { lim.next_up() } else { t_max }
@@ -237,7 +236,7 @@ impl SplatGeometry {
         self.bvh
             .closest_leaves(ray, t_min, t_max, |first, count, lim| {
                 for (s, packet, lanes) in self.sphere_packets((first, count)) {
-                    let (t4, mut m) = r4.test(packet, lanes, t_min, hi(best, *lim));
+                    let (t4, mut m) = r4.test_spheres(packet, lanes, t_min, hi(best, *lim));
                     while m != 0 {
                         let i = m.trailing_zeros() as usize;
                         m &= m - 1;

@@ -7,50 +7,23 @@
 
 use glam::{Mat4, Vec4};
 
-use super::Ray;
+use super::disk4::Ray4;
 use super::splat::SpherePrim;
 
-/// Spheres the slot array is padded with, so a packet starting at any slot can read four: a
-/// NaN centre, which no ray hits.
+/// Spheres the slot array is padded with (`disk4::PAD` of them), so a packet starting at any
+/// slot can read four: a NaN centre, which no ray hits.
 pub(super) const PAD_SPHERE: SpherePrim = SpherePrim {
     center: glam::Vec3::NAN,
     radius: 0.0,
     thickness: 0.0,
 };
 
-/// Number of [`PAD_SPHERE`]s after the last sphere.
-pub(super) const PAD: usize = 3;
-
-/// A ray splatted into lanes.
-pub(super) struct SphereRay4 {
-    ox: Vec4,
-    oy: Vec4,
-    oz: Vec4,
-    dx: Vec4,
-    dy: Vec4,
-    dz: Vec4,
-}
-
-impl SphereRay4 {
-    /// Splats `ray` into lanes.
-    #[inline(always)]
-    pub fn new(ray: &Ray) -> SphereRay4 {
-        let (o, d) = (ray.origin, ray.dir);
-        SphereRay4 {
-            ox: Vec4::splat(o.x),
-            oy: Vec4::splat(o.y),
-            oz: Vec4::splat(o.z),
-            dx: Vec4::splat(d.x),
-            dy: Vec4::splat(d.y),
-            dz: Vec4::splat(d.z),
-        }
-    }
-
+impl Ray4 {
     /// The first crossing with `t_min < t < t_max` of each of the spheres `spheres[0..4]` (the
     /// entry point, or the exit point for a ray starting inside), and a bit mask (bit `i` for
     /// lane `i`) of the lanes that have one; lanes at or beyond `lanes` are masked off.
     #[inline(always)]
-    pub fn test(
+    pub fn test_spheres(
         &self,
         spheres: &[SpherePrim; 4],
         lanes: usize,
@@ -91,6 +64,8 @@ impl SphereRay4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Ray;
+    use crate::geometry::disk4::test_rng;
     use crate::geometry::primitives::intersect_sphere;
     use glam::Vec3;
 
@@ -98,13 +73,7 @@ mod tests {
     /// the surface, tangent and missing, masked-off lanes and padding spheres.
     #[test]
     fn lanes_match_scalar_sphere_test() {
-        let mut s = 0x9e37_79b9u32;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s as f32 / u32::MAX as f32 * 2.0 - 1.0
-        };
+        let mut rnd = test_rng(0x9e37_79b9);
         let mut hits = 0;
         for k in 0..4000 {
             let mut spheres = [PAD_SPHERE; 4];
@@ -134,7 +103,7 @@ mod tests {
             let ray = Ray::new(origin, dir);
             let (t_min, t_max) = if k % 3 == 0 { (0.1, 2.0) } else { (0.0, 10.0) };
             let lanes = 1 + k % 4;
-            let (t, mask) = SphereRay4::new(&ray).test(&spheres, lanes, t_min, t_max);
+            let (t, mask) = Ray4::new(&ray).test_spheres(&spheres, lanes, t_min, t_max);
             for (i, p) in spheres.iter().enumerate() {
                 let want =
                     intersect_sphere(&ray, p.center, p.radius, t_min, t_max).filter(|_| i < lanes);

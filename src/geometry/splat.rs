@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use super::disk4::{PAD, PAD_DISK};
 use super::primitives::{disk_bounds, sphere_bounds};
-use super::sphere4::{PAD as SPHERE_PAD, PAD_SPHERE};
+use super::sphere4::PAD_SPHERE;
 use super::{Aabb, Bvh, BvhParams, LayerBlend, Primitive, Ray};
 use crate::{Error, Result};
 
@@ -82,6 +82,15 @@ pub(super) struct DiskDetail {
     pub curvature: f32,
     /// Thickness gradient in the disk plane, nm per scene unit: h(p) = h + g·(p − c).
     pub thickness_gradient: Vec3,
+}
+
+/// `make(particle)` for every slot of `order`, then [`PAD`] copies of `pad` (so a four-wide
+/// packet can start at any slot).
+fn padded_slots<T: Copy + Send>(order: &[u32], pad: T, make: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let mut out = Vec::with_capacity(order.len() + PAD);
+    out.par_extend(order.par_iter().map(|&i| make(i as usize)));
+    out.extend([pad; PAD]);
+    out
 }
 
 /// The first index `i < n` for which `bad(i)` holds (parallel search).
@@ -215,34 +224,24 @@ impl SplatGeometry {
         let bvh = Bvh::build_with(&bounds, params);
         drop(bounds);
         let order = bvh.order();
+        // Both arrays are padded for the four-wide leaf tests (see `disk4` and `sphere4`), and
+        // both pads have the same length.
         let (disks, spheres) = match primitive {
             Primitive::Disk => {
-                // Padded for the four-wide leaf test (see `disk4`).
-                let mut disks: Vec<DiskPrim> = Vec::with_capacity(n + PAD);
-                disks.par_extend(order.par_iter().map(|&i| {
-                    let i = i as usize;
-                    DiskPrim {
-                        center: positions[i],
-                        radius: radii[i],
-                        normal: unit_normal(i),
-                        thickness: thickness_nm[i],
-                    }
-                }));
-                disks.extend([PAD_DISK; PAD]);
+                let disks = padded_slots(order, PAD_DISK, |i| DiskPrim {
+                    center: positions[i],
+                    radius: radii[i],
+                    normal: unit_normal(i),
+                    thickness: thickness_nm[i],
+                });
                 (disks, Vec::new())
             }
             Primitive::Sphere | Primitive::Mls => {
-                // Padded for the four-wide leaf test (see `sphere4`).
-                let mut spheres: Vec<SpherePrim> = Vec::with_capacity(n + SPHERE_PAD);
-                spheres.par_extend(order.par_iter().map(|&i| {
-                    let i = i as usize;
-                    SpherePrim {
-                        center: positions[i],
-                        radius: radii[i],
-                        thickness: thickness_nm[i],
-                    }
-                }));
-                spheres.extend([PAD_SPHERE; SPHERE_PAD]);
+                let spheres = padded_slots(order, PAD_SPHERE, |i| SpherePrim {
+                    center: positions[i],
+                    radius: radii[i],
+                    thickness: thickness_nm[i],
+                });
                 (Vec::new(), spheres)
             }
         };
