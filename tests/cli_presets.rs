@@ -84,3 +84,28 @@ fn sphere_presets_play_roulette_unless_told_otherwise() {
         assert_eq!(p.settings.roulette, want, "{extra}");
     }
 }
+
+/// The preview preset skips the disks' first-order detail (16 bytes a disk) unless the scene
+/// asks for it; the other presets build it.
+#[test]
+fn preview_skips_first_order_detail_unless_asked() {
+    use filmsplat::pipeline::prepare;
+    use filmsplat::scene::SceneDesc;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bytes = |extra: &str| {
+        let text = format!("[input]\nsample = \"bubble\"\nparticles = 2000\n{extra}");
+        let desc = SceneDesc::from_toml(&text, "test.toml").unwrap();
+        prepare(&desc, root, false)
+            .unwrap()
+            .scene
+            .geometry
+            .memory_bytes()
+    };
+    let balanced = bytes("");
+    let preview = bytes("[render]\npreset = \"preview\"\n");
+    let asked = bytes("[film]\ncurvature = true\n[render]\npreset = \"preview\"\n");
+    let refused = bytes("[film]\ncurvature = false\n");
+    assert_eq!(balanced - preview, 16 * 2000);
+    assert_eq!(asked, balanced);
+    assert_eq!(refused, preview);
+}

@@ -313,16 +313,21 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let geometry: FilmGeometry = if primitive == Primitive::Mls {
         MlsSurface::build(&cloud.positions, normals, &radii, thickness)?.into()
     } else {
-        splats(
-            desc,
+        // First-order detail on disks unless the scene or the preset turns it off.
+        let detail = primitive == Primitive::Disk
+            && desc.film.curvature.unwrap_or(preset.first_order_detail());
+        let mut splats = splats(
             primitive,
             &cloud.positions,
             normals,
             &radii,
             thickness,
-            neighbours,
-        )?
-        .into()
+            detail.then_some(neighbours),
+        )?;
+        if desc.film.blend == Some(false) {
+            splats.set_layer_blend(LayerBlend::NONE);
+        }
+        splats.into()
     };
     let build_time = t2.elapsed();
 
@@ -379,21 +384,18 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     })
 }
 
-/// Disks or spheres, with first-order detail on disks unless the scene turns it off.
+/// Disks or spheres; disks get first-order detail when `detail` is given (holding the
+/// estimate's neighbour table, if it built one).
 fn splats(
-    desc: &SceneDesc,
     primitive: Primitive,
     positions: &[Vec3],
     normals: &[Vec3],
     radii: &[f32],
     thickness: &[f32],
-    neighbours: Option<KnnTable>,
+    detail: Option<Option<KnnTable>>,
 ) -> Result<SplatGeometry> {
     let mut geometry = SplatGeometry::build(primitive, positions, normals, radii, thickness)?;
-    if desc.film.blend == Some(false) {
-        geometry.set_layer_blend(LayerBlend::NONE);
-    }
-    if primitive == Primitive::Disk && desc.film.curvature != Some(false) {
+    if let Some(neighbours) = detail {
         // First-order splats: normals tilt with the curvature, thickness follows its gradient.
         // Reuse the estimate's neighbour table when it has enough neighbours per particle.
         // Otherwise find the neighbours a slice at a time, so no whole table is ever held
