@@ -13,8 +13,9 @@ use crate::{Error, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Preset {
     /// The fastest settings whose error stays near one just-noticeable difference: 1 sample per
-    /// pixel, 4 film crossings deep, colour table (mean ΔE00 ≈ 0.8 against a converged render
-    /// of the bubble sample). For framing a shot and scrubbing a sequence.
+    /// pixel, 4 film crossings deep, colour table, flat disks without first-order detail (mean
+    /// ΔE00 ≈ 0.8 against a converged render of the bubble sample). For framing a shot and
+    /// scrubbing a sequence.
     Preview,
     /// The default: 4 samples per pixel, 12 crossings, colour table (mean ΔE00 ≈ 0.4).
     #[default]
