@@ -322,7 +322,8 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             normals,
             &radii,
             thickness,
-            detail.then_some(neighbours),
+            detail,
+            neighbours,
         )?;
         if desc.film.blend == Some(false) {
             splats.set_layer_blend(LayerBlend::NONE);
@@ -384,18 +385,19 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     })
 }
 
-/// Disks or spheres; disks get first-order detail when `detail` is given (holding the
-/// estimate's neighbour table, if it built one).
+/// Disks or spheres, with first-order detail when `detail` is set; `neighbours` is the
+/// estimate's neighbour table, if it built one.
 fn splats(
     primitive: Primitive,
     positions: &[Vec3],
     normals: &[Vec3],
     radii: &[f32],
     thickness: &[f32],
-    detail: Option<Option<KnnTable>>,
+    detail: bool,
+    neighbours: Option<KnnTable>,
 ) -> Result<SplatGeometry> {
     let mut geometry = SplatGeometry::build(primitive, positions, normals, radii, thickness)?;
-    if let Some(neighbours) = detail {
+    if detail {
         // First-order splats: normals tilt with the curvature, thickness follows its gradient.
         // Reuse the estimate's neighbour table when it has enough neighbours per particle.
         // Otherwise find the neighbours a slice at a time, so no whole table is ever held

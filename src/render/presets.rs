@@ -59,9 +59,7 @@ impl Preset {
             wavelengths: 16,
         }
     }
-}
 
-impl Preset {
     /// The Russian-roulette threshold this preset chooses for `primitive` (see
     /// `RenderSettings::roulette`). Spheres: 0.1 for `balanced` and `final` — every sphere
     /// is its own film crossing, the ray tree of a sample grows to ~13 rays, and roulette cuts
@@ -74,9 +72,7 @@ impl Preset {
             _ => 0.0,
         }
     }
-}
 
-impl Preset {
     /// Whether this preset gives disks their first-order detail (curvature and thickness
     /// gradient, see `SplatGeometry::set_curvature`) when the scene does not say. `preview`
     /// skips it: the neighbour search is 0.6 of the 1.4 s a 1M-particle preview at 960×540
