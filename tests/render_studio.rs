@@ -49,6 +49,7 @@ fn ground_scene(env: Environment, albedo: f32, lights: Vec<AreaLight>) -> Scene 
             materials: vec![Material::Diffuse {
                 albedo: Vec3::splat(albedo),
             }],
+            ..Staging::default()
         },
     }
 }

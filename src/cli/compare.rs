@@ -166,10 +166,6 @@ fn compare_one(
     if let Some(f) = frame {
         ra.frame = Some(f);
         ra.seed = Some(a.render.seed.unwrap_or(0).wrapping_add(f));
-        let input = ra.input.to_string_lossy().into_owned();
-        if let Some(p) = sequence::expand(&input, f)? {
-            ra.input = PathBuf::from(p);
-        }
     }
     let (desc, base) = scene_from_args(&ra)?;
     if let Some(v) = &desc.render.view

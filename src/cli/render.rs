@@ -15,9 +15,11 @@ use std::time::Instant;
 #[derive(Debug, Clone, Args)]
 #[command(after_help = attribute_help())]
 pub struct RenderArgs {
-    /// A particle file (.ply, .vtk, .vtu, .bgeo[.gz], .csv/.xyz), a frame folder of the
-    /// thin-film SPH code (x_bin, norm_bin, rh_bin, ...), or a scene file (.toml).
-    pub(super) input: PathBuf,
+    /// Particle inputs, rendered together as one scene: files (.ply, .vtk, .vtu/.vtp, .pvd,
+    /// .bgeo[.gz], .csv/.xyz), frame or snapshot folders of the thin-film SPH code (film and
+    /// droplets), MELP foam frame folders (every bubble); or one scene file (.toml).
+    #[arg(required = true, num_args = 1..)]
+    pub(super) inputs: Vec<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
     /// hit-count layers). Default: the scene file's output.path, else render.png.
     #[arg(short, long)]
@@ -94,6 +96,10 @@ pub struct RenderArgs {
     /// applied once per disk and colours jump at splat rims).
     #[arg(long)]
     pub(super) no_blend: bool,
+    /// Use the splat radii as read or estimated: do not grow them to close pinholes between
+    /// particles, nor trim them at open edges (film.fit_radii = false).
+    #[arg(long)]
+    pub(super) raw_radii: bool,
     /// Flat disks: skip the curvature estimate that tilts each disk's normal with the film's
     /// curvature (faster set-up; curved films then show faceted reflections).
     #[arg(long)]
@@ -181,6 +187,36 @@ pub struct RenderArgs {
     pub(super) quiet: bool,
 }
 
+/// " and N droplets" when there are any.
+fn droplet_note(n: usize) -> String {
+    if n == 0 {
+        String::new()
+    } else {
+        format!(" and {n} droplets")
+    }
+}
+
+impl RenderArgs {
+    /// The scene file, if the input is one (it must then be the only input).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] if a scene file is given with other inputs.
+    pub(super) fn scene_file(&self) -> Result<Option<&PathBuf>> {
+        let toml = |p: &&PathBuf| {
+            p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+        };
+        match self.inputs.iter().find(toml) {
+            Some(f) if self.inputs.len() > 1 => Err(Error::invalid(format!(
+                "{}: a scene file is rendered alone; list several inputs in its \
+                 input.clouds instead",
+                f.display()
+            ))),
+            found => Ok(found),
+        }
+    }
+}
+
 fn attribute_help() -> String {
     format!(
         "Attribute names recognised in particle files:\n  thickness: {}\n  normals:   {}\n  radius:    {}\n\
@@ -194,21 +230,20 @@ fn attribute_help() -> String {
 /// The scene description: from the TOML file, or a default one around a particle file; then the
 /// flags on top. Returns it with the folder its paths are relative to.
 pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
-    let is_toml = a
-        .input
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    let (mut d, base) = if is_toml {
-        let text = std::fs::read_to_string(&a.input).map_err(|e| Error::io(&a.input, e))?;
-        let d = SceneDesc::from_toml(&text, &a.input.display().to_string())?;
-        (
-            d,
-            a.input.parent().map(Path::to_path_buf).unwrap_or_default(),
-        )
-    } else {
-        let mut d = SceneDesc::default();
-        d.input.cloud = Some(a.input.clone());
-        (d, PathBuf::new())
+    let (mut d, base) = match a.scene_file()? {
+        Some(file) => {
+            let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+            let d = SceneDesc::from_toml(&text, &file.display().to_string())?;
+            (d, file.parent().map(Path::to_path_buf).unwrap_or_default())
+        }
+        None => {
+            let mut d = SceneDesc::default();
+            d.input.cloud = a.inputs.first().cloned();
+            if a.inputs.len() > 1 {
+                d.input.clouds = Some(a.inputs[1..].to_vec());
+            }
+            (d, PathBuf::new())
+        }
     };
     macro_rules! set {
         ($field:expr, $flag:expr) => {
@@ -257,6 +292,9 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     if a.repair {
         d.input.repair = Some(true);
     }
+    if a.raw_radii {
+        d.film.fit_radii = Some(false);
+    }
     if a.flat_splats {
         d.film.curvature = Some(false);
     }
@@ -264,11 +302,14 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
         d.film.blend = Some(false);
     }
     if let Some(f) = a.frame {
-        if let Some(cloud) = &d.input.cloud
-            && let Some(p) = sequence::expand(&cloud.to_string_lossy(), f)?
-        {
-            d.input.cloud = Some(PathBuf::from(p));
-        }
+        let expand = |p: &mut PathBuf| -> Result<()> {
+            if let Some(e) = sequence::expand(&p.to_string_lossy(), f)? {
+                *p = PathBuf::from(e);
+            }
+            Ok(())
+        };
+        d.input.cloud.iter_mut().try_for_each(expand)?;
+        d.input.clouds.iter_mut().flatten().try_for_each(expand)?;
         if d.input.sample.is_some() {
             // A generated sample animates at 24 frames a second from its scene time.
             d.input.time = Some(d.input.time.unwrap_or(0.0) + f as f32 / super::sample::FPS);
@@ -305,20 +346,26 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
     })?;
     let out_pattern = output.to_string_lossy().into_owned();
-    let in_pattern = a.input.to_string_lossy().into_owned();
-    let is_toml = a
-        .input
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let is_toml = a.scene_file()?.is_some();
     if sequence::expand(&out_pattern, 0)?.is_none() {
         return Err(Error::invalid(format!(
             "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
         )));
     }
-    if !is_toml && sequence::expand(&in_pattern, 0)?.is_none() {
-        return Err(Error::invalid(format!(
-            "{in_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in the input"
-        )));
+    if !is_toml {
+        let mut patterned = false;
+        for i in &a.inputs {
+            patterned |= sequence::expand(&i.to_string_lossy(), 0)?.is_some();
+        }
+        if !patterned {
+            return Err(Error::invalid(format!(
+                "{}: --frames needs a frame pattern ({{}} or {{:04}}) in an input",
+                a.inputs
+                    .first()
+                    .map(|p| p.display().to_string())
+                    .unwrap_or_default()
+            )));
+        }
     }
     let mine = sequence::sharded(&frames.0, a.shard);
     let mut failed = Vec::new();
@@ -333,9 +380,6 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             one.exr = sequence::expand(&exr.to_string_lossy(), f)?
                 .map(PathBuf::from)
                 .or(Some(exr.clone()));
-        }
-        if !is_toml {
-            one.input = PathBuf::from(sequence::expand(&in_pattern, f)?.expect("checked"));
         }
         one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
         let target = one.output.clone().expect("set");
@@ -412,7 +456,10 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         if estimate.total() > limit {
             return Err(Error::invalid(format!(
                 "{}: estimated peak memory {estimate} exceeds --max-memory {}",
-                a.input.display(),
+                a.inputs
+                    .first()
+                    .map(|p| p.display().to_string())
+                    .unwrap_or_default(),
                 memory::human_bytes(limit)
             )));
         }
@@ -455,9 +502,10 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         let s = &prepared.settings;
         let _ = writeln!(
             out,
-            "{} particles ({}): load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); wrote {}",
+            "{} particles ({}){}: load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); wrote {}",
             prepared.particles,
             prepared.scene.geometry,
+            droplet_note(prepared.droplets),
             prepared.load_time.as_secs_f64(),
             prepared.estimate_time.as_secs_f64(),
             prepared.build_time.as_secs_f64(),

@@ -1,21 +1,42 @@
-//! Frame folders of the thin-film SPH research code: one directory per frame holding one file
-//! per attribute, `NAME_bin`.
+//! Frame folders of the thin-film SPH code (wang-mengdi/sph-thin-film,
+//! `sph_bubble/FluidSPHBubbleDriver.cpp`, `Write_Output_Files`): one directory per frame.
 //!
-//! Each file is a little-endian `u32` count n followed by n×3 (vector) or n (scalar) `f64`;
-//! vector or scalar is decided by the size (4 + 24n or 4 + 8n bytes, anything else is an
-//! error naming the file). `x_bin` holds the positions and is required; every other `*_bin`
-//! file becomes the attribute `NAME` (vectors `NAME_x/_y/_z`), mapped by
+//! What the writer puts there, and what filmsplat makes of it (layouts in
+//! [`super::sim_arrays`]; all lengths in metres):
+//!
+//! | file | layout | meaning (writer's attribute) | read as |
+//! |---|---|---|---|
+//! | `x_bin` | u32 n, n×3 f64 | positions (`X`) | positions |
+//! | `norm_bin` | u32 n, n×3 f64 | unit normals (`Normal(i)`, column 2 of the local frame) | normals |
+//! | `rh_bin` | u32 n, n f64 | film thickness for rendering, m (`RH`) | thickness |
+//! | `h_bin` | u32 n, n f64 | height of the particle's film cylinder, m (`H`) | extra (thickness if no `rh_bin`) |
+//! | `kh_bin` | u32 n, n f64 | Laplacian of H (`KH`) | extra |
+//! | `sa_bin` | u32 n, n f64 | surface area a particle, m² (`SA`) | extra (droplet volume `SA·H`; the splat radius comes from the spacing, since disks of the particles' own area, √(SA/π), do not overlap enough to blend) |
+//! | `tracker_points` | i32 4n, 4n f32 | x as float32 for the viewer | skipped (positions if no `x_bin`) |
+//! | `tracker_circles`, `point_velocity`, `point_height`, `point_gamma`, `point_force`, `point_sa`, `segment_mesh` | i32 8n, 8n f32 | viewer segments | skipped (`tracker_circles`: normals if no `norm_bin`) |
+//! | `tracker_points_3d` | i32 4m, 4m f32 | droplet positions (3D fluid particles) | droplets part |
+//! | `rh_bin_3d` | u32 m, m f64 | the film thickness a droplet came from, m | droplet extra `rh` |
+//! | `norm_bin_3d` | u32 m, m×3 f64 | unnormalised surface normal of the fluid (`SN`) | droplet extra `sn` |
+//! | `last_frame.txt` | text | the run's last frame | skipped |
+//!
+//! Other `NAME_bin` files become attributes `NAME` (vectors `NAME_x/_y/_z`), mapped by
 //! [`FRAME_NORMAL_ALIASES`] (`norm_bin` first), [`FRAME_THICKNESS_ALIASES`] (`rh_bin`, then
 //! `h_bin`) and [`crate::io::RADIUS_ALIASES`] unless named explicitly. Thickness is in metres
-//! unless [`ReadOptions::thickness_unit_explicit`] says otherwise. All counts must agree.
-//! Other files and subdirectories are ignored.
+//! unless [`ReadOptions::thickness_unit_explicit`] says otherwise. All counts must agree. Other
+//! files are listed as skipped; subdirectories are ignored.
+//!
+//! Droplets are water spheres of the volume the simulator gives them: a film particle turns
+//! into a 3D particle of the same mass (`FluidSPHBubble::Transform_3D_Particles`), so the
+//! volume is the film particle's `SA·H` (its mass over ρ = 1000 kg/m³), from this frame's film,
+//! else the run's frame `0`; see [`droplet_radius`].
 
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
-use super::StoredAttribute;
 use super::columns::{Aliases, Columns};
+use super::sim_arrays::decode_floats;
+use super::{AttributeRole, CloudPart, PartKind, StoredAttribute};
 use super::{FRAME_NORMAL_ALIASES, FRAME_THICKNESS_ALIASES, RADIUS_ALIASES, ReadOptions};
 use super::{format_error, read_file};
 use crate::error::{Error, Result};
@@ -32,7 +53,26 @@ const ALIASES: Aliases = Aliases {
     default_scale_to_nm: 1e9,
 };
 
-/// Reads the frame folder `dir` into a [`PointCloud`] (see the module docs).
+/// The writer's float32 visualisation files: (name, floats per element, what it holds).
+const VIEWER_FILES: &[(&str, usize, &str)] = &[
+    ("tracker_points", 4, "x as float32 for the viewer"),
+    (
+        "tracker_circles",
+        8,
+        "x and normal as float32 for the viewer",
+    ),
+    ("point_velocity", 8, "viewer segments x to x + v"),
+    ("point_height", 8, "viewer segments of H along the normal"),
+    ("point_gamma", 8, "viewer segments of KH along the normal"),
+    ("point_force", 8, "viewer segments of the force"),
+    ("point_sa", 8, "viewer segments of SA"),
+    ("segment_mesh", 8, "viewer local frames"),
+];
+
+/// Density of water in kg/m³: the simulator's `rho` for films and droplets.
+pub const WATER_DENSITY: f64 = 1000.0;
+
+/// Reads the frame folder `dir`'s film into a [`PointCloud`] (see the module docs).
 ///
 /// Cost: reads every `*_bin` file once; peak memory is the cloud plus the largest file.
 ///
@@ -45,7 +85,8 @@ pub fn read(dir: &Path, opts: &ReadOptions) -> Result<PointCloud> {
     read_described(dir, opts).map(|(c, _)| c)
 }
 
-/// Like [`read`], and also returns what the file stores ([`StoredAttribute`]s).
+/// Like [`read`], and also returns what the folder stores ([`StoredAttribute`]s; the
+/// viewer files and others it skips are listed with [`AttributeRole::Skipped`]).
 pub fn read_described(
     dir: &Path,
     opts: &ReadOptions,
@@ -56,47 +97,41 @@ pub fn read_described(
         return Err(format_error(dir, FORMAT, "not a directory"));
     }
     let mut files: Vec<(String, PathBuf)> = Vec::new();
+    let mut skipped: Vec<StoredAttribute> = Vec::new();
+    let mut entries: Vec<(String, PathBuf)> = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
         let entry = entry.map_err(|e| Error::io(dir, e))?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let Some(attr) = name.strip_suffix("_bin") else {
-            continue;
-        };
-        if attr.is_empty() || attr == "x" || !entry.path().is_file() {
+        if !entry.path().is_file() {
             continue;
         }
-        files.push((attr.to_string(), entry.path()));
+        entries.push((
+            entry.file_name().to_string_lossy().into_owned(),
+            entry.path(),
+        ));
     }
-    files.sort();
+    entries.sort();
+    for (name, path) in entries {
+        match name.strip_suffix("_bin") {
+            Some(attr) if !attr.is_empty() && attr != "x" => files.push((attr.to_string(), path)),
+            Some(_) => {}
+            None if name.ends_with("_3d") => {}
+            None => {
+                let what = VIEWER_FILES
+                    .iter()
+                    .find(|(n, ..)| *n == name)
+                    .map_or("not a particle array", |(_, _, w)| *w);
+                skipped.push(StoredAttribute::new(&name, what, 0, AttributeRole::Skipped));
+            }
+        }
+    }
 
     let xp = dir.join("x_bin");
-    if !xp.is_file() {
-        return Err(format_error(
-            &xp,
-            FORMAT,
-            "missing: x_bin holds the positions",
-        ));
-    }
-    let (k, x) = parse(&read_file(&xp)?).map_err(|m| format_error(&xp, FORMAT, m))?;
-    if k == 1 && !x.is_empty() {
-        return Err(format_error(
-            &xp,
-            FORMAT,
-            format!(
-                "holds {} scalars; positions need 3 values per particle",
-                x.len()
-            ),
-        ));
-    }
-    let n = x.len() / 3;
-    let mut cols = Columns {
-        positions: x
-            .chunks_exact(3)
-            .map(|p| Vec3::new(p[0], p[1], p[2]))
-            .collect(),
-        ..Columns::default()
+    let mut cols = if xp.is_file() {
+        positions_from_x_bin(&xp)?
+    } else {
+        positions_from_viewer(dir)?
     };
-    cols.note_positions("x", "float64");
+    let n = cols.positions.len();
     for (attr, p) in files {
         let (k, v) = parse(&read_file(&p)?).map_err(|m| format_error(&p, FORMAT, m))?;
         if v.len() / k != n {
@@ -122,8 +157,207 @@ pub fn read_described(
         }
         cols.push(&attr, k, "float64", v);
     }
-    cols.into_cloud(opts, &ALIASES)
-        .map_err(|m| format_error(dir, FORMAT, m))
+    let (cloud, mut stored) = cols
+        .into_cloud(opts, &ALIASES)
+        .map_err(|m| format_error(dir, FORMAT, m))?;
+    stored.extend(skipped);
+    Ok((cloud, stored))
+}
+
+/// The positions of `x_bin` (f64 vectors).
+fn positions_from_x_bin(xp: &Path) -> Result<Columns> {
+    let (k, x) = parse(&read_file(xp)?).map_err(|m| format_error(xp, FORMAT, m))?;
+    if k == 1 && !x.is_empty() {
+        return Err(format_error(
+            xp,
+            FORMAT,
+            format!(
+                "holds {} scalars; positions need 3 values per particle",
+                x.len()
+            ),
+        ));
+    }
+    let mut cols = Columns {
+        positions: x
+            .chunks_exact(3)
+            .map(|p| Vec3::new(p[0], p[1], p[2]))
+            .collect(),
+        ..Columns::default()
+    };
+    cols.note_positions("x", "float64");
+    Ok(cols)
+}
+
+/// Without `x_bin`: the positions of the float32 `tracker_points`, and normals from
+/// `tracker_circles` (x, 0, normal, 0) when it has as many elements.
+fn positions_from_viewer(dir: &Path) -> Result<Columns> {
+    let tp = dir.join("tracker_points");
+    if !tp.is_file() {
+        return Err(format_error(
+            &dir.join("x_bin"),
+            FORMAT,
+            "missing: x_bin holds the positions",
+        ));
+    }
+    let a = decode_floats(&read_file(&tp)?, 4).map_err(|m| format_error(&tp, FORMAT, m))?;
+    let mut cols = Columns {
+        positions: (0..a.len)
+            .map(|i| Vec3::new(a.get(i, 0) as f32, a.get(i, 1) as f32, a.get(i, 2) as f32))
+            .collect(),
+        ..Columns::default()
+    };
+    cols.note_positions("tracker_points", "float32");
+    let tc = dir.join("tracker_circles");
+    if !dir.join("norm_bin").is_file() && tc.is_file() {
+        let c = decode_floats(&read_file(&tc)?, 8).map_err(|m| format_error(&tc, FORMAT, m))?;
+        if c.len == a.len {
+            let v = (0..c.len)
+                .flat_map(|i| (4..7).map(move |j| (i, j)))
+                .map(|(i, j)| c.get(i, j) as f32)
+                .collect();
+            cols.push("norm", 3, "float32", v);
+        }
+    }
+    Ok(cols)
+}
+
+/// Reads the frame folder's particle sets: the film, and (once the film has ruptured) the
+/// droplets of `tracker_points_3d` with their radius (see [`droplet_radius`]).
+///
+/// # Errors
+/// As [`read`]; for the droplet files, errors naming the file as well.
+pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
+    let (film, stored) = read_described(dir, opts)?;
+    let mut parts = Vec::new();
+    let droplets = read_droplets(dir, &film)?;
+    parts.push(CloudPart::film(
+        format!("{} (film)", dir.display()),
+        film,
+        stored,
+    ));
+    parts.extend(droplets);
+    Ok(parts)
+}
+
+/// The droplets of `tracker_points_3d`, `rh_bin_3d` and `norm_bin_3d`, if any.
+fn read_droplets(dir: &Path, film: &PointCloud) -> Result<Option<CloudPart>> {
+    let tp = dir.join("tracker_points_3d");
+    if !tp.is_file() {
+        return Ok(None);
+    }
+    let a = decode_floats(&read_file(&tp)?, 4).map_err(|m| format_error(&tp, FORMAT, m))?;
+    if a.len == 0 {
+        return Ok(None);
+    }
+    let mut cols = Columns {
+        positions: (0..a.len)
+            .map(|i| Vec3::new(a.get(i, 0) as f32, a.get(i, 1) as f32, a.get(i, 2) as f32))
+            .collect(),
+        ..Columns::default()
+    };
+    cols.note_positions("tracker_points_3d", "float32");
+    for (file, name) in [("rh_bin_3d", "rh"), ("norm_bin_3d", "sn")] {
+        let p = dir.join(file);
+        if !p.is_file() {
+            continue;
+        }
+        let (k, v) = parse(&read_file(&p)?).map_err(|m| format_error(&p, FORMAT, m))?;
+        if v.len() / k != a.len {
+            return Err(format_error(
+                &p,
+                FORMAT,
+                format!(
+                    "count {} disagrees with tracker_points_3d's {} droplets",
+                    v.len() / k,
+                    a.len
+                ),
+            ));
+        }
+        cols.push(name, k, "float64", v);
+    }
+    let none = ReadOptions {
+        thickness_attr: None,
+        normal_attr: None,
+        radius_attr: None,
+        ..ReadOptions::default()
+    };
+    let droplet_aliases = Aliases {
+        thickness: &[],
+        normal: &[],
+        radius: &[],
+        default_scale_to_nm: 1e9,
+    };
+    let (mut cloud, stored) = cols
+        .into_cloud(&none, &droplet_aliases)
+        .map_err(|m| format_error(dir, FORMAT, m))?;
+    let (r, note) = droplet_radius(dir, film, &cloud.positions);
+    cloud.radius = Some(vec![r; cloud.len()]);
+    Ok(Some(CloudPart {
+        label: format!("{} (droplets)", dir.display()),
+        kind: PartKind::Droplets,
+        cloud,
+        stored,
+        notes: vec![note],
+    }))
+}
+
+/// Radius of a sphere of volume `v`.
+pub fn volume_radius(v: f64) -> f64 {
+    (3.0 * v / (4.0 * std::f64::consts::PI)).cbrt()
+}
+
+/// Median film-particle volume `SA·H` (m³) over the particles with both positive, if any.
+fn film_particle_volume(cloud: &PointCloud) -> Option<f64> {
+    let (sa, h) = (cloud.extra("sa")?, cloud.extra("h")?);
+    let mut v: Vec<f64> = sa
+        .iter()
+        .zip(h)
+        .map(|(a, h)| f64::from(*a) * f64::from(*h))
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .collect();
+    if v.is_empty() {
+        return None;
+    }
+    let mid = v.len() / 2;
+    Some(*v.select_nth_unstable_by(mid, f64::total_cmp).1)
+}
+
+/// The droplets' radius (scene units, metres) and how it was found: the sphere of a film
+/// particle's volume `SA·H` (the simulator turns a film particle into a droplet of the same
+/// mass) in this frame's film, else in the run's first frame (`../0`); else half the
+/// droplets' median spacing.
+pub fn droplet_radius(dir: &Path, film: &PointCloud, droplets: &[Vec3]) -> (f32, String) {
+    if let Some(v) = film_particle_volume(film) {
+        let r = volume_radius(v) as f32;
+        return (
+            r,
+            format!(
+                "droplets: water spheres of radius {r:.3e} m (the volume SA·H of this frame's film particles)"
+            ),
+        );
+    }
+    let first = dir.parent().map(|p| p.join("0"));
+    if let Some(first) = first.filter(|f| f.join("x_bin").is_file() && f != dir)
+        && let Ok(c) = read(&first, &ReadOptions::default())
+        && let Some(v) = film_particle_volume(&c)
+    {
+        let r = volume_radius(v) as f32;
+        return (
+            r,
+            format!(
+                "droplets: water spheres of radius {r:.3e} m (the volume SA·H of the film particles of {})",
+                first.display()
+            ),
+        );
+    }
+    let r = 0.5 * crate::pointcloud::estimate::median_spacing(droplets);
+    let r = if r > 0.0 { r } else { 1e-4 };
+    (
+        r,
+        format!(
+            "droplets: no film volume found (SA·H); spheres of half the median droplet spacing, radius {r:.3e}"
+        ),
+    )
 }
 
 /// Decodes one `*_bin` file's content already in memory: returns (components per particle,

@@ -33,10 +33,16 @@ pub mod bgeo;
 mod columns;
 pub mod csv;
 pub mod frame_folder;
+mod melp;
+pub mod melp_folder;
 mod num;
 pub mod obj;
+mod parts;
 mod peek;
 pub mod ply;
+pub mod pvd;
+pub mod sim_arrays;
+pub mod snapshot;
 mod sources;
 pub mod vtk;
 pub mod vtu;
@@ -44,6 +50,7 @@ mod write_ply;
 mod xml;
 
 pub use obj::read_mesh;
+pub use parts::{CloudPart, PartKind, read_parts};
 pub use peek::{CountHint, peek_count};
 pub use write_ply::{write_mesh_ply, write_ply};
 
@@ -155,8 +162,16 @@ pub enum CloudFormat {
     /// Delimited text with a header line naming the columns, read by [`csv::read`].
     Csv,
     /// A directory of `*_bin` files (`x_bin`, `norm_bin`, `rh_bin`, ...), read by
-    /// [`frame_folder::read`].
+    /// [`frame_folder::read`]; with the droplets of a ruptured film (`*_3d`) as a second part.
     FrameFolder,
+    /// A thin-film SPH snapshot folder (`snapshot/<frame>/`: `x.bin`, `e.bin`, `rh.bin`, ...
+    /// and the droplets in `3d/`), read by [`snapshot::read_parts`].
+    SnapshotFolder,
+    /// A MELP foam frame folder (`l_tracker_points_R`, `l_h_bin_R`, ... per bubble R), read by
+    /// [`melp_folder::read_parts`].
+    MelpFolder,
+    /// A ParaView `.pvd` collection of VTK XML files, read by [`pvd::read_parts`].
+    Pvd,
 }
 
 impl CloudFormat {
@@ -169,6 +184,9 @@ impl CloudFormat {
             CloudFormat::Bgeo => "BGEO",
             CloudFormat::Csv => "CSV",
             CloudFormat::FrameFolder => "frame folder",
+            CloudFormat::SnapshotFolder => "snapshot folder",
+            CloudFormat::MelpFolder => "MELP frame folder",
+            CloudFormat::Pvd => "PVD collection",
         }
     }
 }
@@ -206,14 +224,25 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
         message,
     };
     if meta.is_dir() {
-        return if path.join("x_bin").is_file() {
+        return if path.join("x_bin").is_file() || path.join("tracker_points").is_file() {
             Ok(CloudFormat::FrameFolder)
+        } else if path.join("x.bin").is_file() {
+            Ok(CloudFormat::SnapshotFolder)
+        } else if melp_folder::is_melp_folder(path) {
+            Ok(CloudFormat::MelpFolder)
         } else {
             Err(unknown(
-                "a directory without 'x_bin' (only frame folders are read as directories)"
+                "a directory that is no simulator frame folder (expected x_bin or tracker_points \
+                 of the thin-film SPH code, x.bin of its snapshots, or MELP's l_tracker_points_0)"
                     .to_string(),
             ))
         };
+    }
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("pvd"))
+    {
+        return Ok(CloudFormat::Pvd);
     }
     let mut head = Vec::with_capacity(16);
     std::fs::File::open(path)
@@ -276,6 +305,7 @@ pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
         CloudFormat::Bgeo => bgeo::read(path, opts),
         CloudFormat::Csv => csv::read(path, opts),
         CloudFormat::FrameFolder => frame_folder::read(path, opts),
+        _ => read_cloud_described(path, opts).map(|(c, _)| c),
     }
 }
 
@@ -289,6 +319,9 @@ pub fn read_cloud_described(
     let whole = match detect_format(path)? {
         CloudFormat::Ply => return ply::read_described(path, opts),
         CloudFormat::FrameFolder => return frame_folder::read_described(path, opts),
+        CloudFormat::SnapshotFolder | CloudFormat::MelpFolder | CloudFormat::Pvd => {
+            return Ok(parts::film_of(read_parts(path, opts)?));
+        }
         CloudFormat::VtkLegacy => vtk::read_bytes_described,
         CloudFormat::VtkXml => vtu::read_bytes_described,
         CloudFormat::Bgeo => bgeo::read_bytes_described,

@@ -38,8 +38,14 @@ pub struct CountHint {
 /// As [`detect_format`]; [`Error::Io`] if the file cannot be read.
 pub fn peek_count(path: &Path) -> Result<CountHint> {
     let format = detect_format(path)?;
-    if format == CloudFormat::FrameFolder {
-        return peek_frame_folder(path);
+    match format {
+        CloudFormat::FrameFolder if path.join("x_bin").is_file() => {
+            return peek_frame_folder(path);
+        }
+        CloudFormat::FrameFolder | CloudFormat::SnapshotFolder | CloudFormat::MelpFolder => {
+            return peek_folder_bytes(path, format);
+        }
+        _ => {}
     }
     let file_bytes = std::fs::metadata(path)
         .map_err(|e| Error::io(path, e))?
@@ -114,6 +120,31 @@ fn text_lines_estimate(head: &[u8], file_bytes: u64) -> u64 {
     }
     let mean = (head.len() as u64 / lines).max(1);
     file_bytes.div_ceil(mean)
+}
+
+/// A folder of simulator arrays without a count to peek at: every file's bytes, and at most
+/// one particle per 12 of them (three `f32` coordinates), not exact.
+fn peek_folder_bytes(dir: &Path, format: CloudFormat) -> Result<CountHint> {
+    let mut file_bytes = 0u64;
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).map_err(|e| Error::io(&d, e))? {
+            let entry = entry.map_err(|e| Error::io(&d, e))?;
+            let Ok(meta) = entry.metadata() else { continue };
+            if meta.is_dir() && d == dir {
+                stack.push(entry.path());
+            } else if meta.is_file() {
+                file_bytes += meta.len();
+            }
+        }
+    }
+    Ok(CountHint {
+        format,
+        particles: file_bytes / 12,
+        exact: false,
+        file_bytes,
+        reads_whole_file: true,
+    })
 }
 
 /// A frame folder: the count at the start of `x_bin` (little-endian u32), capped by its size.

@@ -16,6 +16,7 @@ use glam::Vec3;
 
 use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
+use super::melp;
 use super::num::Num;
 use super::sources::{Base64, Raw, Source};
 use super::xml::Scanner;
@@ -61,8 +62,27 @@ pub fn read_bytes_described(
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     parse(bytes)
-        .and_then(|c| c.into_cloud(opts, &STANDARD))
+        .and_then(|c| into_cloud(c, opts))
         .map_err(|m| format_error(path, FORMAT, m))
+}
+
+/// Maps the columns to a cloud, as MELP's writers meant them when the arrays are theirs
+/// ([`super::melp`]: `H` in metres, radius √(SA/π), disk glyphs collapsed).
+fn into_cloud(
+    c: Columns,
+    opts: &ReadOptions,
+) -> std::result::Result<(PointCloud, Vec<StoredAttribute>), String> {
+    match melp::writer(&c) {
+        None => c.into_cloud(opts, &STANDARD),
+        Some(melp::Writer::Glyphs) => {
+            melp::collapse_glyphs(c)?.into_cloud(opts, &melp::GLYPH_ALIASES)
+        }
+        Some(melp::Writer::Particles) => {
+            let (mut cloud, mut stored) = c.into_cloud(opts, &melp::PARTICLE_ALIASES)?;
+            super::parts::radius_from_area(&mut cloud, &mut stored, "SA", opts);
+            Ok((cloud, stored))
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -13,11 +13,15 @@
 //!   (cos θ ≥ 0.05) and to 2e-4 in integrated colour at every angle: near grazing, Airy
 //!   resonances become narrower than the f32 phase resolves.
 //!
+//! [`interface`] is one smooth air–water surface (the droplets of a ruptured film): the
+//! unpolarised Fresnel reflectance and Snell's law.
+//!
 //! A film is symmetric (air on both sides), so a hit from the back face has the same R and T as
 //! from the front: callers pass `|cos θ|`.
 
 pub mod airy;
 pub mod fast;
+pub mod interface;
 mod validate;
 
 pub use airy::{FilmRT, film_rt};

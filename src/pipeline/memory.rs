@@ -159,27 +159,31 @@ pub fn parse_size(s: &str) -> std::result::Result<u64, String> {
 pub fn estimate_scene(desc: &SceneDesc, base: &Path, exr: bool) -> Result<MemoryEstimate> {
     let width = desc.render.width.unwrap_or(960);
     let height = desc.render.height.unwrap_or(540);
-    match (&desc.input.cloud, &desc.input.sample) {
-        (Some(path), _) => {
+    let paths = desc.input.paths();
+    if !paths.is_empty() {
+        let (mut particles, mut file, mut exact) = (0u64, 0u64, true);
+        for path in paths {
             let hint = peek_count(&base.join(path))?;
-            let file = if hint.reads_whole_file {
-                hint.file_bytes
-            } else {
-                0
-            };
-            let mut e = MemoryEstimate::new(hint.particles, width, height, exr, file);
-            e.exact_count = hint.exact;
-            Ok(e)
+            particles = particles.saturating_add(hint.particles);
+            if hint.reads_whole_file {
+                file = file.max(hint.file_bytes);
+            }
+            exact &= hint.exact;
         }
-        (None, Some(_)) => {
+        let mut e = MemoryEstimate::new(particles, width, height, exr, file);
+        e.exact_count = exact;
+        return Ok(e);
+    }
+    match &desc.input.sample {
+        Some(_) => {
             let n = desc
                 .input
                 .particles
                 .unwrap_or(crate::samples::BubbleParams::default().particles);
             Ok(MemoryEstimate::new(n as u64, width, height, exr, 0))
         }
-        (None, None) => Err(Error::invalid(
-            "input: no particles given (set input.cloud or input.sample)",
+        None => Err(Error::invalid(
+            "input: no particles given (set input.cloud, input.clouds or input.sample)",
         )),
     }
 }

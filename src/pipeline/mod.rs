@@ -16,11 +16,12 @@ pub mod memory;
 pub mod reconstruct;
 mod studio;
 
-use crate::geometry::{FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeometry};
+use crate::geometry::{Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeometry};
 use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
-use crate::io::{ReadOptions, read_cloud};
+use crate::io::{CloudPart, PartKind, ReadOptions, read_cloud, read_parts};
 use crate::optics::check_film_params;
 use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
+use crate::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii};
 use crate::pointcloud::knn::KnnTable;
 use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
@@ -59,8 +60,10 @@ pub struct Prepared {
     pub view: View,
     /// Output path from the scene file, resolved against its folder.
     pub output: Option<PathBuf>,
-    /// Number of particles.
+    /// Number of film particles.
     pub particles: usize,
+    /// Number of droplets (water spheres).
+    pub droplets: usize,
     /// Time spent loading or generating the cloud.
     pub load_time: Duration,
     /// Time spent estimating missing normals/radii.
@@ -117,7 +120,25 @@ pub fn check_sample_params(p: &SampleParams, sparse: Option<f64>, prefix: &str) 
     Ok(())
 }
 
-/// Loads (or generates) the scene's particle cloud, with thickness in nm.
+/// How the scene's input files are read: attribute names and the thickness unit.
+fn read_options(desc: &SceneDesc) -> Result<ReadOptions> {
+    let input = &desc.input;
+    let mut opts = ReadOptions {
+        thickness_attr: input.thickness_attr.clone(),
+        normal_attr: input.normal_attr.clone(),
+        radius_attr: input.radius_attr.clone(),
+        ..ReadOptions::default()
+    };
+    // Without an explicit unit each format's own applies (m for the simulators' files, nm else).
+    if let Some(unit) = desc.film.thickness_unit.as_deref() {
+        opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
+        opts.thickness_unit_explicit = true;
+    }
+    Ok(opts)
+}
+
+/// Loads (or generates) the scene's particle cloud, with thickness in nm: `input.cloud`'s
+/// film (every film part of it as one cloud), or the sample.
 pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
     let input = &desc.input;
     match (&input.cloud, &input.sample) {
@@ -147,20 +168,67 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
                 _ => cloud,
             })
         }
-        (Some(path), None) => {
-            let mut opts = ReadOptions {
-                thickness_attr: input.thickness_attr.clone(),
-                normal_attr: input.normal_attr.clone(),
-                radius_attr: input.radius_attr.clone(),
-                ..ReadOptions::default()
-            };
-            // Without an explicit unit each format's own applies (m for frame folders, nm else).
-            if let Some(unit) = desc.film.thickness_unit.as_deref() {
-                opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
-                opts.thickness_unit_explicit = true;
-            }
-            read_cloud(&base.join(path), &opts)
-        }
+        (Some(path), None) => read_cloud(&base.join(path), &read_options(desc)?),
+    }
+}
+
+/// Loads (or generates) every particle set of the scene: `input.cloud` and `input.clouds`
+/// (each read into its parts: a simulator frame gives its film and droplets, a foam one film
+/// per bubble), or the sample. Thickness in nm.
+pub fn load_parts(desc: &SceneDesc, base: &Path) -> Result<Vec<CloudPart>> {
+    let input = &desc.input;
+    let paths = input.paths();
+    if paths.is_empty() || input.sample.is_some() {
+        let cloud = load_cloud(desc, base)?;
+        return Ok(vec![CloudPart::film(
+            input.sample.clone().unwrap_or_default(),
+            cloud,
+            Vec::new(),
+        )]);
+    }
+    let opts = read_options(desc)?;
+    let mut parts = Vec::new();
+    for p in paths {
+        parts.extend(read_parts(&base.join(p), &opts)?);
+    }
+    Ok(parts)
+}
+
+/// The droplet parts as one set of water spheres.
+fn droplets(parts: &[PointCloud]) -> Result<Droplets> {
+    let centres: Vec<Vec3> = parts
+        .iter()
+        .flat_map(|p| p.positions.iter().copied())
+        .collect();
+    let radii: Vec<f32> = parts
+        .iter()
+        .flat_map(|p| {
+            let r = p.radius.clone().unwrap_or_else(|| vec![0.0; p.len()]);
+            r.into_iter()
+        })
+        .collect();
+    Droplets::build(&centres, &radii)
+}
+
+/// A hint when thickness values (nm) are implausible for a soap film as read: all below
+/// 0.001 nm (a file in metres read as nm) or all above 1 mm (a file in nm read as metres).
+pub fn thickness_unit_hint(thickness_nm: &[f32]) -> Option<String> {
+    let finite = thickness_nm.iter().filter(|v| v.is_finite());
+    let max = finite.clone().fold(f32::NEG_INFINITY, |a, b| a.max(*b));
+    let min = finite.fold(f32::INFINITY, |a, b| a.min(*b));
+    if max > 0.0 && max < 1e-3 {
+        Some(format!(
+            "thickness values are all below 0.001 nm (max {max:.3e} nm): the file's unit is almost \
+             certainly not nm; if it is metres, read it with --thickness-unit m (film.thickness_unit = \"m\")"
+        ))
+    } else if min > 1e6 {
+        Some(format!(
+            "thickness values are all above 1 mm (min {min:.3e} nm): the file's unit is almost \
+             certainly not the one read; if it is nm, read it with --thickness-unit nm \
+             (film.thickness_unit = \"nm\")"
+        ))
+    } else {
+        None
     }
 }
 
@@ -245,39 +313,87 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     }
 
     let t0 = Instant::now();
-    let mut cloud = load_cloud(desc, base)?;
+    let parts = load_parts(desc, base)?;
     let load_time = t0.elapsed();
-    let name_file = |e: Error| match &desc.input.cloud {
-        Some(path) => Error::invalid(format!("{}: {e}", base.join(path).display())),
-        None => e,
-    };
-    let repairing = desc.input.repair == Some(true);
-    if repairing {
-        let report = repair(&mut cloud);
-        notes.push(report.to_string());
-    } else {
-        validate(&cloud).map_err(name_file)?;
-    }
     let t1 = Instant::now();
-    if let Some(t) = cloud
-        .thickness_nm
-        .as_mut()
-        .filter(|_| thickness_scale != 1.0)
-    {
-        t.iter_mut().for_each(|v| *v *= thickness_scale);
+    let repairing = desc.input.repair == Some(true);
+    let mut films = Vec::new();
+    let mut drops = Vec::new();
+    for part in parts {
+        notes.extend(part.notes.iter().cloned());
+        match part.kind {
+            PartKind::Droplets => drops.push(part.cloud),
+            PartKind::Film if part.cloud.is_empty() => {
+                notes.push(format!("{}: no film particles left", part.label));
+            }
+            PartKind::Film => films.push(part),
+        }
     }
-    let had_radius = cloud.radius.is_some();
-    let (report, neighbours) = fill_missing_keeping_table(
-        &mut cloud,
-        &EstimateOptions {
-            default_thickness_nm: default_thickness,
-            ..EstimateOptions::default()
-        },
-    );
-    notes.push(report.to_string());
-    if repairing {
-        validate(&cloud).map_err(name_file)?;
+    let droplets = droplets(&drops)?;
+    if films.is_empty() && droplets.is_empty() {
+        let what = desc
+            .input
+            .paths()
+            .first()
+            .map(|p| base.join(p).display().to_string());
+        return Err(Error::invalid(format!(
+            "{}point cloud is empty (0 particles)",
+            what.map(|w| format!("{w}: ")).unwrap_or_default()
+        )));
     }
+    let estimate = EstimateOptions {
+        default_thickness_nm: default_thickness,
+        ..EstimateOptions::default()
+    };
+    let single = films.len() == 1;
+    let mut clouds = Vec::with_capacity(films.len());
+    let mut neighbours = None;
+    let mut had_radius = true;
+    for part in films {
+        let label = part.label;
+        let mut cloud = part.cloud;
+        let name = |e: Error| Error::invalid(format!("{label}: {e}"));
+        if repairing {
+            notes.push(repair(&mut cloud).to_string());
+        } else {
+            validate(&cloud).map_err(name)?;
+        }
+        if let Some(t) = cloud
+            .thickness_nm
+            .as_mut()
+            .filter(|_| thickness_scale != 1.0)
+        {
+            t.iter_mut().for_each(|v| *v *= thickness_scale);
+        }
+        if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
+            notes.push(format!("{label}: {hint}"));
+        }
+        had_radius &= cloud.radius.is_some();
+        let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate);
+        notes.push(report.to_string());
+        if repairing {
+            validate(&cloud).map_err(name)?;
+        }
+        if primitive != Primitive::Sphere && desc.film.fit_radii != Some(false) {
+            // Radii fitted to the sampling: no pinholes inside, no bulge at open edges. The
+            // estimate's table serves if it has the neighbours, else a sliced search.
+            let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
+            let normals = cloud.normals.as_deref().unwrap_or_default();
+            if let Some(r) = cloud.radius.as_mut() {
+                let fit = fit_radii(&cloud.positions, normals, r, t);
+                notes.push(format!("{label}: {fit}"));
+            }
+        }
+        if single {
+            neighbours = table;
+        }
+        clouds.push(cloud);
+    }
+    let cloud = if clouds.len() == 1 {
+        clouds.pop().unwrap_or_default()
+    } else {
+        PointCloud::concat(&clouds)
+    };
     let estimate_time = t1.elapsed();
     let thickness_ok = |v: &f32| check_film_params(ior as f64, *v as f64).is_ok();
     if let Some((i, v)) = cloud
@@ -287,8 +403,14 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         .enumerate()
         .find(|(_, v)| !thickness_ok(v))
     {
+        let hint = cloud
+            .thickness_nm
+            .as_deref()
+            .and_then(thickness_unit_hint)
+            .map(|h| format!(": {h}"))
+            .unwrap_or_default();
         return Err(Error::invalid(format!(
-            "particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm"
+            "particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm{hint}"
         )));
     }
     // Estimated radii make disks overlap into a closed film; spheres drawn as particles get half
@@ -299,18 +421,16 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         1.0
     };
     let scale = radius_scale * estimated_scale;
-    let radii: Vec<f32> = cloud
-        .radius
-        .as_ref()
-        .expect("filled")
-        .iter()
-        .map(|r| r * scale)
-        .collect();
+    let radii: Vec<f32> = cloud.radius.iter().flatten().map(|r| r * scale).collect();
 
     let t2 = Instant::now();
-    let normals = cloud.normals.as_ref().expect("filled");
-    let thickness = cloud.thickness_nm.as_ref().expect("filled");
-    let geometry: FilmGeometry = if primitive == Primitive::Mls {
+    let empty = Vec::new();
+    let normals = cloud.normals.as_ref().unwrap_or(&empty);
+    let no_thickness = Vec::new();
+    let thickness = cloud.thickness_nm.as_ref().unwrap_or(&no_thickness);
+    let geometry: FilmGeometry = if cloud.is_empty() {
+        SplatGeometry::build(Primitive::Sphere, &[], &[], &[], &[])?.into()
+    } else if primitive == Primitive::Mls {
         MlsSurface::build(&cloud.positions, normals, &radii, thickness)?.into()
     } else {
         // First-order detail on disks unless the scene or the preset turns it off.
@@ -332,12 +452,16 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     };
     let build_time = t2.elapsed();
 
-    let bounds = geometry.bounds();
+    let bounds = geometry.bounds().union(&droplets.bounds());
     let diag = (bounds.max - bounds.min).length().max(1e-12);
     let epsilon = 1e-5 * diag.max(bounds.max.abs().max_element());
     let mut sorted = radii.clone();
     let mid = sorted.len() / 2;
-    let median_radius = *sorted.select_nth_unstable_by(mid, f32::total_cmp).1;
+    let median_radius = if sorted.is_empty() {
+        0.0
+    } else {
+        *sorted.select_nth_unstable_by(mid, f32::total_cmp).1
+    };
     let layer_skip = match primitive {
         Primitive::Disk => 0.5 * median_radius,
         Primitive::Sphere => epsilon,
@@ -349,6 +473,11 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         .positions
         .iter()
         .zip(&radii)
+        .chain(
+            drops
+                .iter()
+                .flat_map(|d| d.positions.iter().zip(d.radius.iter().flatten())),
+        )
         .map(|(p, r)| (*p - centre).length() + r)
         .fold(0.0f32, f32::max);
     let camera = camera(
@@ -358,7 +487,9 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         settings.width as f32 / settings.height as f32,
     )?;
     let environment = environment(desc, base)?;
-    let staging = studio::staging(desc, base, centre, epsilon)?;
+    let mut staging = studio::staging(desc, base, centre, epsilon)?;
+    let n_droplets = droplets.len();
+    staging.droplets = droplets;
     let shader = FilmShader::new(ior, shading, wavelengths, strategy);
     let output = desc.output.path.as_ref().map(|p| base.join(p));
     Ok(Prepared {
@@ -378,6 +509,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         view,
         output,
         particles: cloud.len(),
+        droplets: n_droplets,
         load_time,
         estimate_time,
         build_time,

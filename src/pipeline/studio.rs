@@ -52,6 +52,7 @@ pub fn staging(desc: &SceneDesc, base: &Path, centre: Vec3, eps: f32) -> Result<
         lights,
         props: Props::new(shapes, eps),
         materials,
+        droplets: Default::default(),
     })
 }
 

@@ -8,6 +8,7 @@ use glam::Vec3;
 pub mod curvature;
 pub mod eigen;
 pub mod estimate;
+pub mod gaps;
 pub mod knn;
 pub mod mesh;
 pub mod orient;
@@ -51,5 +52,43 @@ impl PointCloud {
             .iter()
             .find(|(k, _)| k == name)
             .map(|(_, v)| v.as_slice())
+    }
+}
+
+impl PointCloud {
+    /// The clouds one after the other. Normals, thickness and radius are kept where every cloud
+    /// has them (else `None`, to be estimated); an extra attribute is kept where every cloud has
+    /// one of that name. Cost: one copy of every array.
+    pub fn concat(clouds: &[PointCloud]) -> PointCloud {
+        fn all<T: Clone>(
+            clouds: &[PointCloud],
+            f: impl Fn(&PointCloud) -> Option<&Vec<T>>,
+        ) -> Option<Vec<T>> {
+            let mut out = Vec::new();
+            for c in clouds {
+                out.extend_from_slice(f(c)?);
+            }
+            Some(out)
+        }
+        let Some(first) = clouds.first() else {
+            return PointCloud::default();
+        };
+        let extra = first
+            .extra
+            .iter()
+            .filter_map(|(name, _)| {
+                all(clouds, |c| {
+                    c.extra.iter().find(|(k, _)| k == name).map(|(_, v)| v)
+                })
+                .map(|v| (name.clone(), v))
+            })
+            .collect();
+        PointCloud {
+            positions: all(clouds, |c| Some(&c.positions)).unwrap_or_default(),
+            normals: all(clouds, |c| c.normals.as_ref()),
+            thickness_nm: all(clouds, |c| c.thickness_nm.as_ref()),
+            radius: all(clouds, |c| c.radius.as_ref()),
+            extra,
+        }
     }
 }

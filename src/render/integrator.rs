@@ -52,6 +52,8 @@ pub struct Staging {
     pub props: Props,
     /// One material per prop, in the props' order.
     pub materials: Vec<Material>,
+    /// Water droplets (the bulk fluid a rupturing film sheds): clear refracting spheres.
+    pub droplets: crate::geometry::Droplets,
 }
 
 /// How to render it.

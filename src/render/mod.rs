@@ -2,6 +2,7 @@
 //! integrator.
 
 pub mod camera;
+mod droplet;
 pub mod env_sampling;
 pub mod environment;
 pub mod integrator;

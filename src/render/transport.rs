@@ -108,6 +108,11 @@ impl<'a> Tracer<'a> {
         self.nearest(l, ray, t_min, depth, weight, st).0
     }
 
+    /// What a pruned branch along `ray` sees from its origin on (see `escape`).
+    pub(super) fn escape_view<L: Lanes>(&self, l: &L, ray: &Ray) -> L::C {
+        self.escape(l, ray, 0.0)
+    }
+
     /// What a pruned branch sees: lights first, then the environment.
     fn escape<L: Lanes>(&self, l: &L, ray: &Ray, t_min: f32) -> L::C {
         let lights = &self.scene.staging.lights;
@@ -134,6 +139,14 @@ impl<'a> Tracer<'a> {
         let staging = &self.scene.staging;
         let film = self.scene.geometry.intersect(ray, t_min, f32::INFINITY);
         let mut t_max = film.as_ref().map_or(f32::INFINITY, |h| h.t);
+        let droplet = if staging.droplets.is_empty() {
+            None
+        } else {
+            staging.droplets.intersect(ray, t_min, t_max)
+        };
+        if let Some(d) = &droplet {
+            t_max = d.t;
+        }
         let prop = if staging.props.is_empty() {
             None
         } else {
@@ -150,6 +163,9 @@ impl<'a> Tracer<'a> {
         if let Some(p) = prop {
             let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
             return (c, None);
+        }
+        if let Some(d) = droplet {
+            return (self.shade_droplet(l, ray, &d, depth, weight, st), None);
         }
         match film {
             Some(hit) => {

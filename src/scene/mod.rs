@@ -110,8 +110,13 @@ pub struct PropDesc {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputDesc {
-    /// Particle file (PLY), relative to the scene file.
+    /// Particle file (any readable format, or a simulator's frame folder), relative to the
+    /// scene file.
     pub cloud: Option<PathBuf>,
+    /// Several particle inputs rendered together in one scene (a foam's bubbles, a film and
+    /// its droplets), each read with its own attributes; with or instead of `cloud`. Frame
+    /// patterns (`{:04}`) work in every entry.
+    pub clouds: Option<Vec<PathBuf>>,
     /// Built-in sample instead of a file: "bubble", "irregular-bubble", "catenoid",
     /// "half-bubble", "square-film", "circle-film", "drip" or "oscillating-bubble".
     pub sample: Option<String>,
@@ -155,6 +160,11 @@ pub struct FilmDesc {
     /// (default: true, except with the `preview` preset; costs one neighbour search, ~0.6 s per
     /// million particles on two cores).
     pub curvature: Option<bool>,
+    /// Fit disk and MLS radii to the sampling (default true): grow them where disks would leave
+    /// a pinhole between neighbouring particles, trim them at open edges (rims, holes, rupture
+    /// fronts) so they end about half a spacing past the last particles. Spheres keep their
+    /// size. Costs one 12-neighbour search (shared with the disks' first-order detail).
+    pub fit_radii: Option<bool>,
     /// Blend overlapping disks of one film layer into one crossing (default true). Off shows
     /// what unblended splats look like: the film applied once per disk, colours jumping at rims.
     pub blend: Option<bool>,
@@ -323,5 +333,15 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("line 4") && e.contains("sizes"), "{e}");
+    }
+}
+
+impl InputDesc {
+    /// Every particle input: `cloud`, then the `clouds` list.
+    pub fn paths(&self) -> Vec<&PathBuf> {
+        self.cloud
+            .iter()
+            .chain(self.clouds.iter().flatten())
+            .collect()
     }
 }

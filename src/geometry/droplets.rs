@@ -1,0 +1,142 @@
+//! Droplets: the bulk-fluid particles a rupturing film sheds, as solid spheres of water
+//! (centre, radius), found along a ray through the splat BVH of spheres. What they do to light
+//! (refraction, Fresnel) is the integrator's business; this answers where a ray meets one and
+//! where a ray inside one leaves it.
+
+use glam::Vec3;
+
+use super::{Aabb, Primitive, Ray, SplatGeometry};
+use crate::error::Result;
+
+/// Index of refraction of water, the droplets' default.
+pub const WATER_IOR: f32 = 1.33;
+
+/// A set of spheres of one index of refraction. Empty by default (a scene without droplets
+/// pays one branch a ray).
+#[derive(Clone, Debug)]
+pub struct Droplets {
+    spheres: Option<SplatGeometry>,
+    centres: Vec<Vec3>,
+    radii: Vec<f32>,
+    /// Index of refraction inside the spheres (default [`WATER_IOR`]).
+    pub ior: f32,
+}
+
+impl Default for Droplets {
+    fn default() -> Self {
+        Droplets {
+            spheres: None,
+            centres: Vec::new(),
+            radii: Vec::new(),
+            ior: WATER_IOR,
+        }
+    }
+}
+
+/// Where a ray meets a droplet from outside.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DropletHit {
+    /// Distance along the ray.
+    pub t: f32,
+    /// Outward unit normal at the hit.
+    pub normal: Vec3,
+    /// Which droplet.
+    pub index: u32,
+}
+
+impl Droplets {
+    /// Builds the droplets from centres and radii (scene units; finite, radii > 0).
+    /// Cost: O(n log n), as [`SplatGeometry::build`].
+    ///
+    /// # Errors
+    /// As [`SplatGeometry::build`]: lengths that disagree, non-finite centres, bad radii.
+    pub fn build(centres: &[Vec3], radii: &[f32]) -> Result<Self> {
+        if centres.is_empty() {
+            return Ok(Droplets::default());
+        }
+        let zeros = vec![0.0; centres.len()];
+        let spheres = SplatGeometry::build(Primitive::Sphere, centres, &[], radii, &zeros)?;
+        Ok(Droplets {
+            spheres: Some(spheres),
+            centres: centres.to_vec(),
+            radii: radii.to_vec(),
+            ior: WATER_IOR,
+        })
+    }
+
+    /// Number of droplets.
+    pub fn len(&self) -> usize {
+        self.centres.len()
+    }
+
+    /// True if there are none.
+    pub fn is_empty(&self) -> bool {
+        self.centres.is_empty()
+    }
+
+    /// Bounds of all droplets (the empty box for none).
+    pub fn bounds(&self) -> Aabb {
+        self.spheres
+            .as_ref()
+            .map_or(Aabb::EMPTY, SplatGeometry::bounds)
+    }
+
+    /// Heap bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        self.spheres.as_ref().map_or(0, SplatGeometry::memory_bytes) + self.centres.len() * 16
+    }
+
+    /// The nearest droplet the ray enters with `t_min < t < t_max`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<DropletHit> {
+        let hit = self.spheres.as_ref()?.intersect(ray, t_min, t_max)?;
+        Some(DropletHit {
+            t: hit.t,
+            normal: hit.normal,
+            index: hit.particle,
+        })
+    }
+
+    /// Centre and radius of droplet `i`.
+    pub fn sphere(&self, i: u32) -> (Vec3, f32) {
+        (self.centres[i as usize], self.radii[i as usize])
+    }
+
+    /// Distance from `origin` (inside or on droplet `i`) along unit `dir` to where the ray
+    /// leaves the sphere: the far root of |o + t d − c|² = r².
+    pub fn exit_distance(&self, i: u32, origin: Vec3, dir: Vec3) -> f32 {
+        let (c, r) = self.sphere(i);
+        let oc = origin - c;
+        let b = oc.dot(dir);
+        let q = (b * b - (oc.length_squared() - r * r)).max(0.0);
+        (-b + q.sqrt()).max(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rays_enter_and_leave_the_right_sphere() {
+        let d = Droplets::build(&[Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0)], &[1.0, 0.5]).unwrap();
+        let ray = Ray {
+            origin: Vec3::new(5.0, 0.0, -10.0),
+            dir: Vec3::Z,
+        };
+        let h = d.intersect(&ray, 0.0, f32::INFINITY).unwrap();
+        assert_eq!(h.index, 1);
+        assert!((h.t - 9.5).abs() < 1e-4 && (h.normal + Vec3::Z).length() < 1e-4);
+        let p = ray.origin + ray.dir * h.t;
+        assert!((d.exit_distance(1, p, Vec3::Z) - 1.0).abs() < 1e-4);
+        // From the centre every exit is one radius away.
+        assert!((d.exit_distance(0, Vec3::ZERO, Vec3::new(0.6, 0.8, 0.0)) - 1.0).abs() < 1e-6);
+        assert!(d.intersect(&ray, 0.0, 9.0).is_none());
+        assert!(
+            Droplets::build(&[], &[])
+                .unwrap()
+                .intersect(&ray, 0.0, 1e9)
+                .is_none()
+        );
+    }
+}

@@ -1,0 +1,128 @@
+//! Inputs that hold several particle sets: a thin-film SPH frame folder holds the film and,
+//! once it has ruptured, the droplets it shed; a MELP foam frame holds one film per bubble;
+//! a `.pvd` collection names several files. [`read_parts`] reads any input into its parts.
+
+use std::path::Path;
+
+use super::{CloudFormat, ReadOptions, StoredAttribute, detect_format, read_cloud_described};
+use crate::error::Result;
+use crate::pointcloud::PointCloud;
+
+/// What the particles of a part are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartKind {
+    /// A thin film sampled by the particles (rendered with the thin-film optics).
+    Film,
+    /// Bulk fluid droplets (3D fluid particles the film turned into when it ruptured),
+    /// rendered as clear water spheres. [`PointCloud::radius`] holds each droplet's radius.
+    Droplets,
+}
+
+impl std::fmt::Display for PartKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            PartKind::Film => "film",
+            PartKind::Droplets => "droplets",
+        })
+    }
+}
+
+/// One particle set of an input.
+#[derive(Debug, Clone)]
+pub struct CloudPart {
+    /// Where it came from, for messages: the file or folder, and which of its sets
+    /// (e.g. `frame 100/ (x_bin)` or `region 2`).
+    pub label: String,
+    /// Film or droplets.
+    pub kind: PartKind,
+    /// The particles (thickness in nm; droplets: radius in scene units).
+    pub cloud: PointCloud,
+    /// What the files stored and how each attribute or file is used (skipped ones included).
+    pub stored: Vec<StoredAttribute>,
+    /// How missing values were derived (e.g. the droplet radius), for the user.
+    pub notes: Vec<String>,
+}
+
+impl CloudPart {
+    /// A film part read from one file.
+    pub fn film(label: String, cloud: PointCloud, stored: Vec<StoredAttribute>) -> Self {
+        CloudPart {
+            label,
+            kind: PartKind::Film,
+            cloud,
+            stored,
+            notes: Vec::new(),
+        }
+    }
+}
+
+/// Reads every particle set of `path` (a file, a frame or snapshot folder of the thin-film SPH
+/// code, a MELP foam frame folder, or a `.pvd` collection). Single-set formats give one film
+/// part. Parts may be empty (a film that has fully ruptured).
+///
+/// # Errors
+/// As [`super::read_cloud`].
+pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
+    match detect_format(path)? {
+        CloudFormat::FrameFolder => super::frame_folder::read_parts(path, opts),
+        CloudFormat::SnapshotFolder => super::snapshot::read_parts(path, opts),
+        CloudFormat::MelpFolder => super::melp_folder::read_parts(path, opts),
+        CloudFormat::Pvd => super::pvd::read_parts(path, opts),
+        _ => {
+            let (cloud, stored) = read_cloud_described(path, opts)?;
+            Ok(vec![CloudPart::film(
+                path.display().to_string(),
+                cloud,
+                stored,
+            )])
+        }
+    }
+}
+
+/// The film parts of `parts` as one cloud (see [`PointCloud::concat`]), and their stored
+/// attributes (the first part's, with the other parts' additions).
+pub(crate) fn film_of(parts: Vec<CloudPart>) -> (PointCloud, Vec<StoredAttribute>) {
+    let mut stored: Vec<StoredAttribute> = Vec::new();
+    let mut clouds = Vec::new();
+    for p in parts.into_iter().filter(|p| p.kind == PartKind::Film) {
+        for s in p.stored {
+            if !stored.iter().any(|t| t.name == s.name) {
+                stored.push(s);
+            }
+        }
+        clouds.push(p.cloud);
+    }
+    let cloud = if clouds.len() == 1 {
+        clouds.pop().unwrap_or_default()
+    } else {
+        PointCloud::concat(&clouds)
+    };
+    (cloud, stored)
+}
+
+/// Gives `cloud` the radius of a disk of each particle's area, r = √(A/π), from its extra
+/// attribute `area` (m², the simulators' `SA`), when it has no radius yet and `opts` names
+/// none; marks the stored attribute as the radius. The simulators' own disk glyphs use this
+/// radius (MELP's `OutputCircleDisksAsVTP`).
+pub(crate) fn radius_from_area(
+    cloud: &mut PointCloud,
+    stored: &mut [StoredAttribute],
+    area: &str,
+    opts: &ReadOptions,
+) {
+    if cloud.radius.is_some() || opts.radius_attr.is_some() {
+        return;
+    }
+    let Some(a) = cloud.extra(area) else {
+        return;
+    };
+    cloud.radius = Some(
+        a.iter()
+            .map(|a| (a.max(0.0) / std::f32::consts::PI).sqrt())
+            .collect(),
+    );
+    stored
+        .iter_mut()
+        .filter(|s| s.name == area)
+        .for_each(|s| s.role = super::AttributeRole::Radius);
+}
