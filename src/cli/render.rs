@@ -500,9 +500,10 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     }
     if !a.quiet {
         let s = &prepared.settings;
+        let front = crate::image::pinholes::missing_front_layer(&result.depth, s.width, s.height);
         let _ = writeln!(
             out,
-            "{} particles ({}){}: load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); wrote {}",
+            "{} particles ({}){}: load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
             prepared.particles,
             prepared.scene.geometry,
             droplet_note(prepared.droplets),
@@ -514,6 +515,7 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             s.spp,
             render_time.as_secs_f64(),
             result.rays as f64 / render_time.as_secs_f64() / 1e6,
+            front.percent(),
             output.display()
         );
     }

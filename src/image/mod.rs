@@ -13,6 +13,7 @@ pub mod exr;
 mod font;
 pub mod grade;
 pub mod metrics;
+pub mod pinholes;
 mod png;
 pub mod stability;
 pub mod text;

@@ -2,19 +2,18 @@
 //! particles that sample the surface, trimmed where the surface ends.
 //!
 //! For each particle i the neighbours of its kNN row that lie on its sheet (normals within
-//! 60°, not farther off its tangent plane than along it) are projected onto i's tangent plane
-//! and sorted by angle. Each pair of angularly consecutive neighbours (a, b) spans a fan
-//! triangle (i, a, b), unless the angle between them exceeds [`OPEN_ANGLE_DEG`] or a side is
+//! 60°, not farther off its tangent plane than along it) are projected onto i's tangent plane;
+//! its Gabriel neighbours among them (no other neighbour inside the circle on i–j as diameter:
+//! the first ring, as in a Delaunay triangulation, whatever the sampling's anisotropy) are
+//! sorted by angle. Each pair of angularly consecutive ones (a, b) spans a fan triangle
+//! (i, a, b), unless no neighbour at all lies within [`OPEN_ANGLE_DEG`] of the sector between
+//! them, or a side is
 //! longer than [`LONG_EDGE`] × the cloud's median spacing: that side of i is open (a free
 //! edge, the rim of a hole, a rupture front, a film torn into sparse fragments), and i is an
 //! edge particle.
 //!
-//! - **Gaps.** The point of a fan triangle farthest from its corners is its circumcentre c
-//!   (for an obtuse angle at i, the midpoint of the side facing i). If no other neighbour is
-//!   nearer to c than i is, only the disks of i, a and b can cover it, so i's radius grows to
-//!   [`GAP_MARGIN`] × |c − i| (capped at [`MAX_GROWTH`] × the median radius). A surface
-//!   sampled without gaps then renders without pinholes, whatever the sampling (hexagonal,
-//!   jittered, anisotropic, random).
+//! - **Gaps.** An interior particle's radius grows to [`GAP_MARGIN`] × the distance to its
+//!   cell's farthest vertex, if that is more (capped at [`MAX_GROWTH`] × the median radius).
 //! - **Edges.** An edge particle's disk is shrunk to what its fan triangles need, and at least
 //!   [`EDGE_REACH`] × its spacing (the mean distance to its three nearest sheet neighbours),
 //!   but never above its previous radius nor the cloud's median radius: a rim
@@ -23,7 +22,12 @@
 //! - **Isolated** particles (fewer than two neighbours on their sheet) keep at most
 //!   [`EDGE_REACH`] × the distance to their nearest neighbour, and at most the median radius.
 //!
-//! Cost: O(n·k log k) over an existing k-nearest-neighbour table (k = 12), parallel.
+//! A particle that looks like an edge among its [`FAN_NEIGHBOURS`] nearest is looked at again
+//! among its [`WIDE_NEIGHBOURS`] nearest (a seam of an anisotropic sampling, where the next
+//! row lies beyond the nearest twenty, is no edge).
+//!
+//! Cost: one k-nearest-neighbour search (k = [`FAN_NEIGHBOURS`], in slices unless a table is
+//! given) plus O(k²) a particle, parallel; edges again with k = [`WIDE_NEIGHBOURS`].
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -31,13 +35,17 @@ use rayon::prelude::*;
 use super::estimate::median_positive;
 use super::knn::{KnnTable, PointIndex};
 
-/// Largest angle (degrees) between consecutive neighbours around a particle that still counts
-/// as sampled surface; a wider one is an open side.
-pub const OPEN_ANGLE_DEG: f32 = 120.0;
+/// Half-side of the square a Voronoi cell is clipped to, as a multiple of the cloud's median
+/// distance to the [`SPACING_RANK`]-th nearest neighbour (on a hexagonal sampling of spacing d
+/// that distance is d; on a random one about 1.9 times the nearest-neighbour distance). A cell
+/// vertex beyond half of it means an open side: no particle within a hole's width.
+pub const LONG_EDGE: f32 = 2.5;
 
-/// Longest side of a fan triangle, as a multiple of the cloud's median nearest-neighbour
-/// distance; a longer one spans a hole, not a sampling gap.
-pub const LONG_EDGE: f32 = 3.0;
+/// Which neighbour's distance measures the spacing for [`LONG_EDGE`].
+pub const SPACING_RANK: usize = 6;
+
+/// Most particles the spacing's median is taken over (evenly strided).
+const SPACING_SAMPLE: usize = 65_536;
 
 /// Factor on the distance to a gap's centre a disk grows to (its blending weight there is then
 /// (1 − 1/1.15²)² ≈ 0.06, not zero).
@@ -82,7 +90,11 @@ enum Fit {
 }
 
 /// Neighbours a fan is built from.
-pub const FAN_NEIGHBOURS: usize = 12;
+pub const FAN_NEIGHBOURS: usize = 20;
+
+/// Neighbours a particle that looks like an edge among [`FAN_NEIGHBOURS`] is looked at again
+/// with.
+pub const WIDE_NEIGHBOURS: usize = 64;
 
 /// Rows of neighbours searched at a time when no table is given (12 neighbours × 8 bytes ×
 /// 64k rows ≈ 6 MiB), so no whole table is held.
@@ -104,7 +116,8 @@ pub fn fit_radii(
     }
     let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
     let cap = MAX_GROWTH * median;
-    let longest = LONG_EDGE * super::estimate::median_spacing(positions);
+    let index = PointIndex::build(positions);
+    let longest = LONG_EDGE * median_kth_distance(&index, positions, SPACING_RANK);
     let fit = |i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
         fan(i, positions, normals, radii[i].min(median), longest, row)
     };
@@ -115,7 +128,6 @@ pub fn fit_radii(
             .map(|i| fit(i, &mut t.row(i)))
             .collect(),
         None => {
-            let index = PointIndex::build(positions);
             let mut fits = Vec::with_capacity(n);
             for start in (0..n).step_by(CHUNK) {
                 let rows = start..(start + CHUNK).min(n);
@@ -129,6 +141,20 @@ pub fn fit_radii(
             fits
         }
     };
+    // An edge seen among the nearest few may be a seam of an anisotropic sampling, with film
+    // beyond the next rows: look again with more neighbours before trimming.
+    let fits: Vec<Fit> = fits
+        .into_par_iter()
+        .enumerate()
+        .with_min_len(512)
+        .map(|(i, f)| match f {
+            Fit::Interior(_) => f,
+            _ => {
+                let row = index.nearest_excluding(positions[i], WIDE_NEIGHBOURS, i as u32);
+                fit(i, &mut row.into_iter())
+            }
+        })
+        .collect();
     let mut report = GapReport::default();
     for (r, fit) in radii.iter_mut().zip(fits) {
         match fit {
@@ -158,8 +184,23 @@ pub fn fit_radii(
 }
 
 /// The fan of particle `i` with current radius `r`.
-/// `edge_r`: the most an edge particle keeps; `longest`: the longest side of a fan triangle;
-/// `row`: its neighbours, nearest first.
+/// The median over (up to [`SPACING_SAMPLE`] strided) particles of the distance to their
+/// `k`-th nearest neighbour (0 when there is none).
+fn median_kth_distance(index: &PointIndex, positions: &[Vec3], k: usize) -> f32 {
+    let n = positions.len();
+    let m = n.min(SPACING_SAMPLE);
+    let d = (0..m).into_par_iter().filter_map(|s| {
+        let i = if m == n { s } else { s * n / m };
+        index
+            .nearest_excluding(positions[i], k, i as u32)
+            .last()
+            .map(|r| r.1)
+    });
+    median_positive(d.collect::<Vec<f32>>().into_iter()).unwrap_or(0.0)
+}
+
+/// `edge_r`: the most an edge particle keeps; `longest`: the farthest a sampled neighbour may
+/// be; `row`: its neighbours, nearest first.
 fn fan(
     i: usize,
     positions: &[Vec3],
@@ -169,53 +210,44 @@ fn fan(
     row: &mut dyn Iterator<Item = (u32, f32)>,
 ) -> Fit {
     let (p, nrm) = (positions[i], normals[i]);
-    if !(p.is_finite() && nrm.is_finite()) || nrm.length_squared() < 0.5 {
+    if !(p.is_finite() && nrm.is_finite()) || nrm.length_squared() < 0.5 || !(longest > 0.0) {
         return Fit::Interior(0.0);
     }
     let (u, v) = nrm.any_orthonormal_pair();
-    let mut near: Vec<(f32, Vec2)> = Vec::with_capacity(FAN_NEIGHBOURS);
+    let mut near: Vec<Vec2> = Vec::with_capacity(FAN_NEIGHBOURS);
     let mut nearest = f32::INFINITY;
     for (j, d) in row {
         let (q, nj) = (positions[j as usize], normals[j as usize]);
         let off = q - p;
-        let along = off.dot(nrm).abs();
         let flat = Vec2::new(off.dot(u), off.dot(v));
         nearest = nearest.min(d);
-        if nj.dot(nrm).abs() < 0.5 || along > flat.length() || flat.length_squared() == 0.0 {
+        if nj.dot(nrm).abs() < 0.5
+            || off.dot(nrm).abs() > flat.length()
+            || flat.length_squared() == 0.0
+        {
             continue;
         }
-        near.push((flat.y.atan2(flat.x), flat));
+        near.push(flat);
     }
     if near.len() < 2 {
         return Fit::Isolated((EDGE_REACH * nearest).min(edge_r));
     }
-    near.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let open = OPEN_ANGLE_DEG.to_radians();
+    // i's Voronoi cell among its sheet neighbours, clipped to a square of half-side
+    // `longest`: the part of the surface nearer to i than to any other particle.
+    let cell = voronoi_cell(&near, longest);
+    let open = 0.5 * longest;
     let mut need = 0.0f32;
-    let mut edge = false;
-    for k in 0..near.len() {
-        let (a0, qa) = near[k];
-        let (b0, qb) = near[(k + 1) % near.len()];
-        let mut gap = b0 - a0;
-        if k + 1 == near.len() {
-            gap += std::f32::consts::TAU;
-        }
-        let long = qa.length().max(qb.length()).max((qa - qb).length()) > longest;
-        if gap > open || long {
+    let mut edge = cell.is_empty();
+    for c in &cell {
+        let d = c.length();
+        if d >= open {
             edge = true;
-            continue;
-        }
-        if let Some(c) = far_point(qa, qb) {
-            let dc = c.length();
-            // Only a gap that i's disk is among the nearest to needs i to cover it.
-            if near.iter().all(|(_, q)| (c - *q).length() >= dc * 0.999) {
-                need = need.max(GAP_MARGIN * dc);
-            }
+        } else {
+            need = need.max(GAP_MARGIN * d);
         }
     }
     if edge {
-        // Rows are sorted nearest first, and so are the sheet neighbours taken from them.
-        let mut d: Vec<f32> = near.iter().map(|(_, q)| q.length()).collect();
+        let mut d: Vec<f32> = near.iter().map(|q| q.length()).collect();
         d.sort_by(f32::total_cmp);
         let spacing = d.iter().take(3).sum::<f32>() / d.len().min(3) as f32;
         Fit::Edge(need.max(EDGE_REACH * spacing).min(edge_r))
@@ -224,27 +256,35 @@ fn fan(
     }
 }
 
-/// The point of triangle (0, a, b) farthest from its nearest corner: the circumcentre when the
-/// angle at 0 is at most 90°, else the midpoint of a–b. `None` for a degenerate triangle.
-fn far_point(a: Vec2, b: Vec2) -> Option<Vec2> {
-    if a.dot(b) < 0.0 {
-        return Some(0.5 * (a + b));
+/// The vertices of the cell {x : |x| ≤ |x − q| for every q in `near`} ∩ [−half, half]²: the
+/// square clipped by the half-planes x·q ≤ |q|²/2 (Sutherland–Hodgman on a convex polygon).
+fn voronoi_cell(near: &[Vec2], half: f32) -> Vec<Vec2> {
+    let mut poly = vec![
+        Vec2::new(-half, -half),
+        Vec2::new(half, -half),
+        Vec2::new(half, half),
+        Vec2::new(-half, half),
+    ];
+    let mut next = Vec::with_capacity(poly.len() + 2);
+    for q in near {
+        let (lim, side) = (0.5 * q.length_squared(), |x: Vec2| x.dot(*q));
+        next.clear();
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (sa, sb) = (side(a) - lim, side(b) - lim);
+            if sa <= 0.0 {
+                next.push(a);
+            }
+            if (sa < 0.0) != (sb < 0.0) && sa != sb {
+                next.push(a + (b - a) * (sa / (sa - sb)));
+            }
+        }
+        std::mem::swap(&mut poly, &mut next);
+        if poly.is_empty() {
+            break;
+        }
     }
-    let d = 2.0 * a.perp_dot(b);
-    if d.abs() < 1e-12 * a.length_squared().max(b.length_squared()) {
-        return None;
-    }
-    let (a2, b2) = (a.length_squared(), b.length_squared());
-    let c = Vec2::new(b.y * a2 - a.y * b2, a.x * b2 - b.x * a2) / d;
-    // An obtuse angle at a or b puts the circumcentre outside; the side's midpoint is then the
-    // point to cover.
-    if (b - a).dot(-a) < 0.0 {
-        return Some(0.5 * b);
-    }
-    if (a - b).dot(-b) < 0.0 {
-        return Some(0.5 * a);
-    }
-    Some(c)
+    poly
 }
 
 #[cfg(test)]
@@ -252,15 +292,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn far_point_is_equidistant_in_acute_triangles() {
-        let (a, b) = (Vec2::new(1.0, 0.0), Vec2::new(0.5, 0.8));
-        let c = far_point(a, b).unwrap();
-        let (d0, da, db) = (c.length(), (c - a).length(), (c - b).length());
-        assert!((d0 - da).abs() < 1e-5 && (d0 - db).abs() < 1e-5);
-        // Obtuse at the origin: the midpoint of the far side.
-        let m = far_point(Vec2::new(1.0, 0.0), Vec2::new(-0.5, 0.5)).unwrap();
-        assert!((m - Vec2::new(0.25, 0.25)).length() < 1e-6);
-        assert!(far_point(Vec2::new(1.0, 0.0), Vec2::new(2.0, 0.0)).is_none());
+    fn voronoi_cell_of_a_square_lattice_point_is_its_square() {
+        let near = [Vec2::X, -Vec2::X, Vec2::Y, -Vec2::Y, Vec2::ONE, -Vec2::ONE];
+        let mut cell = voronoi_cell(&near, 10.0);
+        // The diagonal neighbours' lines pass through corners: drop the repeated vertices.
+        cell.dedup_by(|a, b| (*a - *b).length() < 1e-6);
+        assert_eq!(cell.len(), 4, "{cell:?}");
+        for c in cell {
+            assert!(
+                (c.x.abs() - 0.5).abs() < 1e-6 && (c.y.abs() - 0.5).abs() < 1e-6,
+                "{c}"
+            );
+        }
+        // One side open: the cell reaches the clipping square there.
+        let cell = voronoi_cell(&[Vec2::X, Vec2::Y, -Vec2::Y], 10.0);
+        assert!(cell.iter().any(|c| c.x <= -9.99));
     }
 
     /// A square grid of spacing 1 in the z = 0 plane, `w × w` points.

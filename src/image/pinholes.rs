@@ -1,0 +1,101 @@
+//! The pinhole metric: the share of a film's interior where a camera ray misses the first film
+//! layer — it meets no film at all, or its first crossing lies far behind its neighbours' (it
+//! slipped between the front layer's splats and found the back of the bubble).
+//!
+//! From a depth buffer (distance to the first crossing, 0 where none): a pixel is **interior**
+//! if within [`REACH`] pixels in each of the four axis directions there is a hit (so the
+//! silhouette's outside and holes wider than 2·[`REACH`] px are not interior — real holes stay
+//! holes). An interior pixel is **missing** if it has no hit, or its depth lies behind the
+//! median m of the hits in its 5×5 neighbourhood by more than ([`BEHIND`] − 1)·m and more than
+//! [`SPREAD`] × their median absolute deviation (near a silhouette, where the front layer is
+//! seen at grazing angles, depth varies that much from pixel to pixel without any hole).
+
+/// How far (pixels) a hit must be found in each direction for a pixel to be interior.
+pub const REACH: usize = 3;
+
+/// A first crossing this many times the local median depth away is behind the front layer.
+pub const BEHIND: f32 = 1.05;
+
+/// ... and at least this many median absolute deviations of the local depths behind it.
+pub const SPREAD: f32 = 4.0;
+
+/// Counts of [`missing_front_layer`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrontLayer {
+    /// Interior pixels.
+    pub interior: usize,
+    /// Interior pixels whose first film layer is missing.
+    pub missing: usize,
+}
+
+impl FrontLayer {
+    /// Missing share of the interior, percent (0 for no interior).
+    pub fn percent(&self) -> f64 {
+        if self.interior == 0 {
+            0.0
+        } else {
+            100.0 * self.missing as f64 / self.interior as f64
+        }
+    }
+}
+
+/// The pinhole metric of a `width × height` depth buffer (row-major, 0 = no hit).
+/// Cost: O(pixels × 25).
+///
+/// ```
+/// use filmsplat::image::pinholes::missing_front_layer;
+/// let mut depth = vec![1.0f32; 20 * 20];
+/// depth[10 * 20 + 10] = 0.0; // a pinhole
+/// depth[5 * 20 + 5] = 3.0; // a ray that found the back layer
+/// let f = missing_front_layer(&depth, 20, 20);
+/// assert_eq!(f.missing, 2);
+/// assert_eq!(f.interior, 18 * 18); // every pixel with a hit 1..=3 px away on all four sides
+/// ```
+pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontLayer {
+    let mut out = FrontLayer::default();
+    if depth.len() != width * height {
+        return out;
+    }
+    let hit = |x: usize, y: usize| depth[y * width + x] > 0.0;
+    let mut near = Vec::with_capacity(25);
+    for y in 0..height {
+        for x in 0..width {
+            let found = |dx: isize, dy: isize| {
+                (1..=REACH as isize).any(|s| {
+                    let (xx, yy) = (x as isize + dx * s, y as isize + dy * s);
+                    xx >= 0
+                        && yy >= 0
+                        && (xx as usize) < width
+                        && (yy as usize) < height
+                        && hit(xx as usize, yy as usize)
+                })
+            };
+            if !(found(1, 0) && found(-1, 0) && found(0, 1) && found(0, -1)) {
+                continue;
+            }
+            out.interior += 1;
+            let d = depth[y * width + x];
+            if d <= 0.0 {
+                out.missing += 1;
+                continue;
+            }
+            near.clear();
+            for yy in y.saturating_sub(2)..(y + 3).min(height) {
+                for xx in x.saturating_sub(2)..(x + 3).min(width) {
+                    let v = depth[yy * width + xx];
+                    if v > 0.0 {
+                        near.push(v);
+                    }
+                }
+            }
+            let mid = near.len() / 2;
+            let median = *near.select_nth_unstable_by(mid, f32::total_cmp).1;
+            near.iter_mut().for_each(|v| *v = (*v - median).abs());
+            let mad = *near.select_nth_unstable_by(mid, f32::total_cmp).1;
+            if d - median > ((BEHIND - 1.0) * median).max(SPREAD * mad) {
+                out.missing += 1;
+            }
+        }
+    }
+    out
+}
