@@ -3,8 +3,9 @@
 use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
-use crate::pipeline::memory;
-use crate::scene::SceneDesc;
+use crate::pipeline::framing::{self, Framing};
+use crate::pipeline::{Prepared, memory};
+use crate::scene::{CameraDesc, SceneDesc};
 use crate::{Error, Result};
 use clap::Args;
 use std::io::{IsTerminal, Write};
@@ -107,7 +108,8 @@ pub struct RenderArgs {
     /// Multiplier on the environment's radiance.
     #[arg(long)]
     pub(super) env_intensity: Option<f32>,
-    /// Camera position x,y,z (scene units); default: auto-framing.
+    /// Camera position x,y,z (scene units); default: auto-framing (a sequence is framed once,
+    /// on its first frame, see --frame-all).
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
     pub(super) camera: Option<[f32; 3]>,
     /// Point the camera looks at, x,y,z (default: the cloud's centre).
@@ -160,6 +162,12 @@ pub struct RenderArgs {
     /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
     #[arg(long, value_parser = super::sequence::shard)]
     pub(super) shard: Option<(u64, u64)>,
+    /// With --frames and no camera position: auto-frame the sequence's one camera on the union
+    /// of all frames' bounds (each job then prepares every frame once more to measure it),
+    /// instead of on the first frame of --frames. The chosen camera is printed as scene-file
+    /// lines.
+    #[arg(long)]
+    pub(super) frame_all: bool,
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
     pub(super) frame: Option<u64>,
@@ -174,6 +182,8 @@ pub struct RenderArgs {
     pub(super) keep_going: bool,
     /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
     /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
+    /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
+    /// that cannot be read). A SIZE above it lets a render try anyway.
     #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
     pub(super) max_memory: Option<u64>,
     /// No progress bar or summary.
@@ -299,7 +309,12 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let Some(frames) = &a.frames else {
-        return render_one(a, out);
+        if a.frame_all {
+            return Err(Error::invalid(
+                "--frame-all frames a whole sequence; it needs --frames",
+            ));
+        }
+        return render_one(a, out, None);
     };
     let output = a.output.as_ref().ok_or_else(|| {
         Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
@@ -320,11 +335,11 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             "{in_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in the input"
         )));
     }
-    let mine = sequence::sharded(&frames.0, a.shard);
-    let mut failed = Vec::new();
-    for (n, &f) in mine.iter().enumerate() {
+    // The arguments of one frame of the sequence.
+    let frame_args = |f: u64| -> Result<RenderArgs> {
         let mut one = a.clone();
         one.frames = None;
+        one.frame_all = false;
         one.frame = Some(f);
         one.output = Some(PathBuf::from(
             sequence::expand(&out_pattern, f)?.expect("checked"),
@@ -338,6 +353,25 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             one.input = PathBuf::from(sequence::expand(&in_pattern, f)?.expect("checked"));
         }
         one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
+        Ok(one)
+    };
+    let mine = sequence::sharded(&frames.0, a.shard);
+    // Fail before the work: every folder this job writes in exists and takes files.
+    let mut ready = std::collections::BTreeSet::new();
+    for &f in &mine {
+        let one = frame_args(f)?;
+        for p in one.output.iter().chain(one.exr.as_ref()) {
+            check_extension(p)?;
+            if ready.insert(p.parent().map(Path::to_path_buf)) {
+                crate::atomic::prepare_output(p)?;
+            }
+        }
+    }
+    // Decided before the first frame this job renders (not at all if it renders none).
+    let mut camera: Option<Option<CameraDesc>> = None;
+    let mut failed = Vec::new();
+    for (n, &f) in mine.iter().enumerate() {
+        let mut one = frame_args(f)?;
         let target = one.output.clone().expect("set");
         if a.resume {
             // A run killed mid-write leaves a hidden `.NAME.tmp-PID-N`; this shard owns frame f.
@@ -361,10 +395,20 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             }
             continue;
         }
+        let mut first = None;
+        if camera.is_none() {
+            let decided = sequence_camera(a, &frames.0, &frame_args, out)?;
+            camera = Some(decided.camera);
+            first = decided.first.filter(|(g, _)| *g == f).map(|(_, p)| p);
+        }
+        if let Some(Some(c)) = &camera {
+            one.camera = c.position;
+            one.look_at = c.look_at;
+        }
         if !a.quiet {
             let _ = writeln!(out, "frame {f} ({}/{}):", n + 1, mine.len());
         }
-        match render_one(&one, out) {
+        match render_one(&one, out, first) {
             Ok(()) => {}
             Err(e) if a.keep_going => {
                 eprintln!("filmsplat: error: frame {f}: {e}");
@@ -384,41 +428,144 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
-/// Renders one image.
-fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
-    let (desc, base) = scene_from_args(a)?;
-    let output = match (&a.output, &desc.output.path) {
+/// The camera every frame of a sequence is rendered from: `None` if the scene or the flags
+/// name a camera position (it wins); else auto-framed once, on the first frame of the whole
+/// `frames` list, or with --frame-all on the union of every frame's bounds, so every job of a
+/// farm picks the same camera. Prints it as `[camera]` lines (unless -q). Also returns the
+/// first frame's prepared scene when it was prepared whole (not with --frame-all), for the
+/// caller to render instead of preparing it again.
+fn sequence_camera(
+    a: &RenderArgs,
+    frames: &[u64],
+    frame_args: &dyn Fn(u64) -> Result<RenderArgs>,
+    out: &mut dyn Write,
+) -> Result<SequenceCamera> {
+    let first = frames[0];
+    let (desc, _) = scene_from_args(&frame_args(first)?)?;
+    if desc.camera.position.is_some() {
+        return Ok(SequenceCamera {
+            camera: None,
+            first: None,
+        });
+    }
+    let measured: &[u64] = if a.frame_all { frames } else { &frames[..1] };
+    let mut framings = Vec::with_capacity(measured.len());
+    let mut aspect = 1.0;
+    let mut kept = None;
+    for &f in measured {
+        let p = prepare_frame(&frame_args(f)?, false).map_err(|e| {
+            Error::invalid(format!(
+                "frame {f} (the sequence's camera is framed on it): {e}"
+            ))
+        })?;
+        framings.push(p.framing);
+        aspect = p.aspect;
+        if !a.frame_all {
+            kept = Some((f, p));
+        }
+    }
+    let framing = Framing::union_all(&framings).expect("at least one frame");
+    let camera = pipeline::framing::sequence_camera(&desc, &framing, aspect)?;
+    if let Some(c) = &camera
+        && !a.quiet
+    {
+        let on = if a.frame_all {
+            format!(
+                "the bounds of all {} frames ({}..={}, --frame-all)",
+                frames.len(),
+                first,
+                frames[frames.len() - 1]
+            )
+        } else {
+            format!("frame {first}, the first of the sequence")
+        };
+        let _ = writeln!(
+            out,
+            "camera for every frame, auto-framed on {on} (paste into a scene file to keep it):\n{}",
+            framing::camera_toml(c).trim_end()
+        );
+    }
+    Ok(SequenceCamera {
+        camera,
+        first: kept,
+    })
+}
+
+/// What [`sequence_camera`] decided.
+struct SequenceCamera {
+    /// The camera every frame is rendered from; `None` if the scene names one.
+    camera: Option<CameraDesc>,
+    /// The first frame's number and its prepared scene, if it was prepared whole.
+    first: Option<(u64, Prepared)>,
+}
+
+/// The image a render writes: -o, else the scene file's output.path, else render.png.
+fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
+    match (&a.output, &desc.output.path) {
         (Some(o), _) => o.clone(),
         (None, Some(p)) => base.join(p),
         (None, None) => PathBuf::from("render.png"),
-    };
-    for p in std::iter::once(&output).chain(a.exr.as_ref()) {
-        let ext = p
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        if !matches!(ext.as_deref(), Some("png" | "exr")) {
-            return Err(Error::invalid(format!(
-                "{}: output must end in .png or .exr",
-                p.display()
-            )));
-        }
     }
-    if let Some(limit) = a.max_memory {
-        let exr = std::iter::once(&output)
-            .chain(a.exr.as_ref())
+}
+
+/// Refuses an output that is neither .png nor .exr.
+fn check_extension(p: &Path) -> Result<()> {
+    let ext = p
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if matches!(ext.as_deref(), Some("png" | "exr")) {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            p.display()
+        )))
+    }
+}
+
+/// Checks everything that can be checked before loading: output names, the estimated peak
+/// memory against --max-memory or the machine's available memory, the output folders
+/// (created); then prepares the scene. `progress` shows the render's progress bar.
+fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = output_path(a, &desc, &base);
+    let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
+    for p in &outputs {
+        check_extension(p)?;
+    }
+    if let Some(limit) = memory::Limit::new(a.max_memory) {
+        let exr = outputs
+            .iter()
             .any(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
-        let estimate = memory::estimate_scene(&desc, &base, exr)?;
-        if estimate.total() > limit {
-            return Err(Error::invalid(format!(
-                "{}: estimated peak memory {estimate} exceeds --max-memory {}",
-                a.input.display(),
-                memory::human_bytes(limit)
-            )));
+        match memory::estimate_scene(&desc, &base, exr) {
+            Ok(estimate) => limit
+                .check(&estimate)
+                .map_err(|m| Error::invalid(format!("{}: {m}", a.input.display())))?,
+            // Without a limit of the user's, an input the estimate cannot read is left to the
+            // reader, which names the problem better.
+            Err(_) if matches!(limit, memory::Limit::Available(_)) => {}
+            Err(e) => return Err(e),
         }
     }
+    for p in &outputs {
+        crate::atomic::prepare_output(p)?;
+    }
+    pipeline::prepare(&desc, &base, progress)
+}
+
+/// Renders one image; `ready` is its scene if the caller already prepared it.
+fn render_one(a: &RenderArgs, out: &mut dyn Write, ready: Option<Prepared>) -> Result<()> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = output_path(a, &desc, &base);
     let progress = !a.quiet && std::io::stderr().is_terminal();
-    let prepared = pipeline::prepare(&desc, &base, progress)?;
+    let prepared = match ready {
+        Some(mut p) => {
+            p.settings.progress = progress;
+            p
+        }
+        None => prepare_frame(a, progress)?,
+    };
     if !a.quiet {
         for note in prepared
             .notes
