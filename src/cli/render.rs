@@ -3,9 +3,8 @@
 use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
-use crate::pipeline::framing::{self, Framing};
 use crate::pipeline::{Prepared, memory};
-use crate::scene::{CameraDesc, SceneDesc};
+use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use clap::Args;
 use std::io::{IsTerminal, Write};
@@ -316,187 +315,7 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         }
         return render_one(a, out, None);
     };
-    let output = a.output.as_ref().ok_or_else(|| {
-        Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
-    })?;
-    let out_pattern = output.to_string_lossy().into_owned();
-    let in_pattern = a.input.to_string_lossy().into_owned();
-    let is_toml = a
-        .input
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    if sequence::expand(&out_pattern, 0)?.is_none() {
-        return Err(Error::invalid(format!(
-            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
-        )));
-    }
-    if !is_toml && sequence::expand(&in_pattern, 0)?.is_none() {
-        return Err(Error::invalid(format!(
-            "{in_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in the input"
-        )));
-    }
-    // The arguments of one frame of the sequence.
-    let frame_args = |f: u64| -> Result<RenderArgs> {
-        let mut one = a.clone();
-        one.frames = None;
-        one.frame_all = false;
-        one.frame = Some(f);
-        one.output = Some(PathBuf::from(
-            sequence::expand(&out_pattern, f)?.expect("checked"),
-        ));
-        if let Some(exr) = &a.exr {
-            one.exr = sequence::expand(&exr.to_string_lossy(), f)?
-                .map(PathBuf::from)
-                .or(Some(exr.clone()));
-        }
-        if !is_toml {
-            one.input = PathBuf::from(sequence::expand(&in_pattern, f)?.expect("checked"));
-        }
-        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
-        Ok(one)
-    };
-    let mine = sequence::sharded(&frames.0, a.shard);
-    // Fail before the work: every folder this job writes in exists and takes files.
-    let mut ready = std::collections::BTreeSet::new();
-    for &f in &mine {
-        let one = frame_args(f)?;
-        for p in one.output.iter().chain(one.exr.as_ref()) {
-            check_extension(p)?;
-            if ready.insert(p.parent().map(Path::to_path_buf)) {
-                crate::atomic::prepare_output(p)?;
-            }
-        }
-    }
-    // Decided before the first frame this job renders (not at all if it renders none).
-    let mut camera: Option<Option<CameraDesc>> = None;
-    let mut failed = Vec::new();
-    for (n, &f) in mine.iter().enumerate() {
-        let mut one = frame_args(f)?;
-        let target = one.output.clone().expect("set");
-        if a.resume {
-            // A run killed mid-write leaves a hidden `.NAME.tmp-PID-N`; this shard owns frame f.
-            let mut removed = 0;
-            for t in std::iter::once(&target).chain(one.exr.as_ref()) {
-                removed += crate::atomic::remove_stale_temps(t)?;
-            }
-            if removed > 0 && !a.quiet {
-                let _ = writeln!(
-                    out,
-                    "frame {f}: removed {removed} unfinished temporary file(s) of an interrupted run"
-                );
-            }
-        }
-        let finished = std::iter::once(&target)
-            .chain(one.exr.as_ref())
-            .all(|p| p.exists());
-        if a.resume && finished {
-            if !a.quiet {
-                let _ = writeln!(out, "frame {f}: {} exists, skipped", target.display());
-            }
-            continue;
-        }
-        let mut first = None;
-        if camera.is_none() {
-            let decided = sequence_camera(a, &frames.0, &frame_args, out)?;
-            camera = Some(decided.camera);
-            first = decided.first.filter(|(g, _)| *g == f).map(|(_, p)| p);
-        }
-        if let Some(Some(c)) = &camera {
-            one.camera = c.position;
-            one.look_at = c.look_at;
-        }
-        if !a.quiet {
-            let _ = writeln!(out, "frame {f} ({}/{}):", n + 1, mine.len());
-        }
-        match render_one(&one, out, first) {
-            Ok(()) => {}
-            Err(e) if a.keep_going => {
-                eprintln!("filmsplat: error: frame {f}: {e}");
-                failed.push(f);
-            }
-            Err(e) => return Err(Error::invalid(format!("frame {f}: {e}"))),
-        }
-    }
-    if !failed.is_empty() {
-        return Err(Error::invalid(format!(
-            "{} of {} frames failed: {:?}",
-            failed.len(),
-            mine.len(),
-            failed
-        )));
-    }
-    Ok(())
-}
-
-/// The camera every frame of a sequence is rendered from: `None` if the scene or the flags
-/// name a camera position (it wins); else auto-framed once, on the first frame of the whole
-/// `frames` list, or with --frame-all on the union of every frame's bounds, so every job of a
-/// farm picks the same camera. Prints it as `[camera]` lines (unless -q). Also returns the
-/// first frame's prepared scene when it was prepared whole (not with --frame-all), for the
-/// caller to render instead of preparing it again.
-fn sequence_camera(
-    a: &RenderArgs,
-    frames: &[u64],
-    frame_args: &dyn Fn(u64) -> Result<RenderArgs>,
-    out: &mut dyn Write,
-) -> Result<SequenceCamera> {
-    let first = frames[0];
-    let (desc, _) = scene_from_args(&frame_args(first)?)?;
-    if desc.camera.position.is_some() {
-        return Ok(SequenceCamera {
-            camera: None,
-            first: None,
-        });
-    }
-    let measured: &[u64] = if a.frame_all { frames } else { &frames[..1] };
-    let mut framings = Vec::with_capacity(measured.len());
-    let mut aspect = 1.0;
-    let mut kept = None;
-    for &f in measured {
-        let p = prepare_frame(&frame_args(f)?, false).map_err(|e| {
-            Error::invalid(format!(
-                "frame {f} (the sequence's camera is framed on it): {e}"
-            ))
-        })?;
-        framings.push(p.framing);
-        aspect = p.aspect;
-        if !a.frame_all {
-            kept = Some((f, p));
-        }
-    }
-    let framing = Framing::union_all(&framings).expect("at least one frame");
-    let camera = pipeline::framing::sequence_camera(&desc, &framing, aspect)?;
-    if let Some(c) = &camera
-        && !a.quiet
-    {
-        let on = if a.frame_all {
-            format!(
-                "the bounds of all {} frames ({}..={}, --frame-all)",
-                frames.len(),
-                first,
-                frames[frames.len() - 1]
-            )
-        } else {
-            format!("frame {first}, the first of the sequence")
-        };
-        let _ = writeln!(
-            out,
-            "camera for every frame, auto-framed on {on} (paste into a scene file to keep it):\n{}",
-            framing::camera_toml(c).trim_end()
-        );
-    }
-    Ok(SequenceCamera {
-        camera,
-        first: kept,
-    })
-}
-
-/// What [`sequence_camera`] decided.
-struct SequenceCamera {
-    /// The camera every frame is rendered from; `None` if the scene names one.
-    camera: Option<CameraDesc>,
-    /// The first frame's number and its prepared scene, if it was prepared whole.
-    first: Option<(u64, Prepared)>,
+    sequence::render_sequence(a, &frames.0, out)
 }
 
 /// The image a render writes: -o, else the scene file's output.path, else render.png.
@@ -509,7 +328,7 @@ fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
 }
 
 /// Refuses an output that is neither .png nor .exr.
-fn check_extension(p: &Path) -> Result<()> {
+pub(super) fn check_extension(p: &Path) -> Result<()> {
     let ext = p
         .extension()
         .and_then(|e| e.to_str())
@@ -527,7 +346,7 @@ fn check_extension(p: &Path) -> Result<()> {
 /// Checks everything that can be checked before loading: output names, the estimated peak
 /// memory against --max-memory or the machine's available memory, the output folders
 /// (created); then prepares the scene. `progress` shows the render's progress bar.
-fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
+pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
     let (desc, base) = scene_from_args(a)?;
     let output = output_path(a, &desc, &base);
     let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
@@ -555,7 +374,11 @@ fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
 }
 
 /// Renders one image; `ready` is its scene if the caller already prepared it.
-fn render_one(a: &RenderArgs, out: &mut dyn Write, ready: Option<Prepared>) -> Result<()> {
+pub(super) fn render_one(
+    a: &RenderArgs,
+    out: &mut dyn Write,
+    ready: Option<Prepared>,
+) -> Result<()> {
     let (desc, base) = scene_from_args(a)?;
     let output = output_path(a, &desc, &base);
     let progress = !a.quiet && std::io::stderr().is_terminal();
