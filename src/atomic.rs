@@ -94,6 +94,33 @@ pub fn remove_stale_temps(path: &Path) -> Result<usize> {
     Ok(removed)
 }
 
+/// Makes sure `path` can be written before any work is done for it: creates the folder it is
+/// to be written in (and its parents), then creates and removes a temporary file there (named
+/// as [`write_atomic`]'s, so a killed run leaves nothing [`remove_stale_temps`] would not
+/// clean). Cost: a few system calls.
+///
+/// # Errors
+/// [`Error::Invalid`] naming `path` and the folder if the folder cannot be created (a part of
+/// it is a file, no permission) or no file can be created in it.
+pub fn prepare_output(path: &Path) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let refuse = |what: &str, e: std::io::Error| {
+        Error::invalid(format!("{}: {what} {}: {e}", path.display(), dir.display()))
+    };
+    fs::create_dir_all(dir).map_err(|e| refuse("cannot create the output folder", e))?;
+    let probe = temp_path(path)?;
+    OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map_err(|e| refuse("cannot write in the output folder", e))?;
+    let _ = fs::remove_file(&probe);
+    Ok(())
+}
+
 /// Makes the rename durable by syncing the directory (best effort; not possible on all systems).
 fn sync_parent(path: &Path) {
     #[cfg(unix)]
@@ -200,5 +227,23 @@ mod tests {
         assert!(err.is_err());
         assert_eq!(entries(&d), vec!["target"]);
         fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn outputs_are_prepared_or_refused_before_the_work() {
+        let d = scratch("prepare");
+        let deep = d.join("a/b/c/out.png");
+        prepare_output(&deep).unwrap();
+        assert!(d.join("a/b/c").is_dir());
+        assert!(entries(&d.join("a/b/c")).is_empty(), "the probe is removed");
+        fs::write(d.join("file"), b"x").unwrap();
+        let e = prepare_output(&d.join("file/out.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("file/out.png") && e.contains("cannot create the output folder"),
+            "{e}"
+        );
+        prepare_output(Path::new("relative.png")).unwrap();
     }
 }

@@ -309,3 +309,50 @@ fn a_reconstructed_mesh_is_compared_and_its_shell_flagged() {
     assert!(v["b"]["meshing_s"].as_f64().unwrap() > 0.0);
     assert!(v["b"]["elements"].as_u64().unwrap() > 1000);
 }
+
+#[test]
+fn compare_has_its_own_help_and_refuses_renders_flags() {
+    let (code, help, err) = filmsplat(&["compare", "--help"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(help.contains("Default: compare.png"), "{help}");
+    for wrong in [
+        "render.png",
+        "--primitive",
+        "--exr",
+        "or .exr",
+        "--frame-all",
+        "--resume",
+    ] {
+        assert!(
+            !help.contains(wrong),
+            "compare --help offers '{wrong}':\n{help}"
+        );
+    }
+    // Flags that are render's are refused, not ignored.
+    let (cloud, _) = bubble_and_mesh("flags");
+    for (flag, value) in [
+        ("--primitive", Some("mls")),
+        ("--exr", Some("x.exr")),
+        ("--resume", None),
+        ("--keep-going", None),
+        ("--max-memory", Some("8G")),
+    ] {
+        let out = tmp(&format!("flags{flag}.png"));
+        let mut args = vec![
+            "compare",
+            "disk",
+            "sphere",
+            &cloud,
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "16x12",
+            flag,
+        ];
+        args.extend(value);
+        let (code, _, err) = filmsplat(&args);
+        assert_eq!(code, 2, "{flag}");
+        assert!(err.contains(flag) && err.lines().count() == 1, "{err}");
+        assert!(!out.exists());
+    }
+}

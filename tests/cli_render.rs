@@ -274,23 +274,34 @@ fn a_latlong_environment_map_lights_the_scene() {
 fn scientific_views_render_with_colour_bars() {
     let shell = data("splishsplash_sphere_shell.ply");
     for view in ["thickness", "normal", "depth", "particle-id", "coverage"] {
-        let png = tmp(&format!("view-{view}.png"));
-        let (code, out, err) = filmsplat(&[
-            "render",
-            &shell,
-            "--view",
-            view,
-            "-o",
-            png.to_str().unwrap(),
-            "--size",
-            "64x48",
-        ]);
-        assert_eq!(code, 0, "{view}: {err}");
-        assert!(out.contains(view), "{out}");
-        let (w, h) = png_size(&png);
-        assert_eq!(h, 48);
-        let with_bar = matches!(view, "thickness" | "depth" | "coverage");
-        assert_eq!(w > 64, with_bar, "{view}: width {w}");
+        // The bar goes inside the requested size, wide, tiny or portrait, PNG or EXR.
+        for size in ["64x48", "320x180", "90x160"] {
+            let png = tmp(&format!("view-{view}-{size}.png"));
+            let exr = tmp(&format!("view-{view}-{size}.exr"));
+            let (code, out, err) = filmsplat(&[
+                "render",
+                &shell,
+                "--view",
+                view,
+                "-o",
+                png.to_str().unwrap(),
+                "--exr",
+                exr.to_str().unwrap(),
+                "--size",
+                size,
+            ]);
+            assert_eq!(code, 0, "{view}: {err}");
+            assert!(out.contains(view), "{out}");
+            let (w, h) = size.split_once('x').unwrap();
+            let want = (w.parse().unwrap(), h.parse().unwrap());
+            assert_eq!(png_size(&png), want, "{view} PNG at {size}");
+            let e = filmsplat::image::read_exr(&exr).unwrap();
+            assert_eq!(
+                (e.width as u32, e.height as u32),
+                want,
+                "{view} EXR at {size}"
+            );
+        }
     }
     let (code, _, err) = filmsplat(&[
         "render",

@@ -18,8 +18,41 @@ use crate::pointcloud::Transfer;
 use crate::render::View;
 use crate::{Error, Result};
 
-/// Arguments of `filmsplat compare`: the two geometries, then everything `render` takes.
+/// Arguments of `filmsplat compare`: the two geometries, then the scene flags of `render`
+/// (its help rewritten where compare differs; the flags compare cannot honour are hidden and
+/// refused).
 #[derive(Debug, Clone, Args)]
+#[command(
+    mut_arg("output", |a| a.help(
+        "Output figure, PNG only (the two renders and the ΔE heat map side by side). Default: \
+         compare.png; with --frames a pattern such as 'cmp/{:04}.png'"
+    )),
+    mut_arg("frames", |a| a.help(
+        "Compare a sequence: frame numbers A..B (B excluded) or A..=B. The input, -o, and a \
+         mesh:FILE geometry contain a frame pattern, {} or {:04}, e.g. `compare disk \
+         'mesh:surf/{:04}.obj' 'frames/{:04}.ply' -o 'cmp/{:04}.png' --frames 0..48`; also \
+         prints the temporal stability of both sides"
+    )),
+    mut_arg("shard", |a| a.help(
+        "Compare only every N-th frame of --frames, starting at the K-th (K/N, 0 <= K < N)"
+    )),
+    mut_arg("camera", |a| a.help(
+        "Camera position x,y,z (scene units); default: auto-framing of each frame"
+    )),
+    mut_arg("roulette", |a| a.help(
+        "Russian roulette below this branch weight (0..1; 0 is off): dim branches of the ray \
+         tree are followed at random, unbiased (the balanced and final presets use 0.1 for a \
+         sphere geometry)"
+    )),
+    mut_arg("quiet", |a| a.help("No progress bar or report (--json still prints)")),
+    mut_arg("exr", |a| a.hide(true)),
+    mut_arg("primitive", |a| a.hide(true)),
+    mut_arg("view", |a| a.hide(true)),
+    mut_arg("frame_all", |a| a.hide(true)),
+    mut_arg("resume", |a| a.hide(true)),
+    mut_arg("keep_going", |a| a.hide(true)),
+    mut_arg("max_memory", |a| a.hide(true)),
+)]
 pub struct CompareArgs {
     /// First geometry: disk, sphere, mls, mesh:FILE (PLY with faces or OBJ) or reconstructed.
     a: String,
@@ -94,6 +127,24 @@ pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
             "compare writes one PNG; --exr is not supported",
         ));
     }
+    let r = &a.render;
+    if r.primitive.is_some() {
+        return Err(Error::invalid(
+            "compare takes its two geometries as arguments A and B; --primitive is render's",
+        ));
+    }
+    for (given, flag) in [
+        (r.frame_all, "--frame-all"),
+        (r.resume, "--resume"),
+        (r.keep_going, "--keep-going"),
+        (r.max_memory.is_some(), "--max-memory"),
+    ] {
+        if given {
+            return Err(Error::invalid(format!(
+                "{flag} is render's; compare does not support it"
+            )));
+        }
+    }
     let output = a
         .render
         .output
@@ -109,6 +160,7 @@ pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
         )));
     }
     let Some(frames) = &a.render.frames else {
+        crate::atomic::prepare_output(&output)?;
         let r = compare_one(a, &mesh, None, &output, out)?;
         report(a, std::slice::from_ref(&r), None, out);
         return Ok(());
@@ -120,6 +172,14 @@ pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
         )));
     }
     let mine = sequence::sharded(&frames.0, a.render.shard);
+    // Fail before the work: every folder the figures go in exists and takes files.
+    let mut ready = std::collections::BTreeSet::new();
+    for &f in &mine {
+        let target = PathBuf::from(sequence::expand(&out_pattern, f)?.expect("checked"));
+        if ready.insert(target.parent().map(Path::to_path_buf)) {
+            crate::atomic::prepare_output(&target)?;
+        }
+    }
     let mut results: Vec<FrameResult> = Vec::new();
     let mut flicker = [0.0f64; 2];
     for &f in &mine {

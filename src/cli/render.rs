@@ -3,7 +3,7 @@
 use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
-use crate::pipeline::memory;
+use crate::pipeline::{Prepared, memory};
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use clap::Args;
@@ -113,7 +113,8 @@ pub struct RenderArgs {
     /// Multiplier on the environment's radiance.
     #[arg(long)]
     pub(super) env_intensity: Option<f32>,
-    /// Camera position x,y,z (scene units); default: auto-framing.
+    /// Camera position x,y,z (scene units); default: auto-framing (a sequence is framed once,
+    /// on its first frame, see --frame-all).
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
     pub(super) camera: Option<[f32; 3]>,
     /// Point the camera looks at, x,y,z (default: the cloud's centre).
@@ -166,6 +167,12 @@ pub struct RenderArgs {
     /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
     #[arg(long, value_parser = super::sequence::shard)]
     pub(super) shard: Option<(u64, u64)>,
+    /// With --frames and no camera position: auto-frame the sequence's one camera on the union
+    /// of all frames' bounds (each job then prepares every frame once more to measure it),
+    /// instead of on the first frame of --frames. The chosen camera is printed as scene-file
+    /// lines.
+    #[arg(long)]
+    pub(super) frame_all: bool,
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
     pub(super) frame: Option<u64>,
@@ -180,6 +187,8 @@ pub struct RenderArgs {
     pub(super) keep_going: bool,
     /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
     /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
+    /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
+    /// that cannot be read). A SIZE above it lets a render try anyway.
     #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
     pub(super) max_memory: Option<u64>,
     /// No progress bar or summary.
@@ -197,6 +206,14 @@ fn droplet_note(n: usize) -> String {
 }
 
 impl RenderArgs {
+    /// The first input, for messages.
+    pub(super) fn first_input(&self) -> String {
+        self.inputs
+            .first()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default()
+    }
+
     /// The scene file, if the input is one (it must then be the only input).
     ///
     /// # Errors
@@ -340,132 +357,87 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let Some(frames) = &a.frames else {
-        return render_one(a, out);
+        if a.frame_all {
+            return Err(Error::invalid(
+                "--frame-all frames a whole sequence; it needs --frames",
+            ));
+        }
+        return render_one(a, out, None);
     };
-    let output = a.output.as_ref().ok_or_else(|| {
-        Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
-    })?;
-    let out_pattern = output.to_string_lossy().into_owned();
-    let is_toml = a.scene_file()?.is_some();
-    if sequence::expand(&out_pattern, 0)?.is_none() {
-        return Err(Error::invalid(format!(
-            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
-        )));
-    }
-    if !is_toml {
-        let mut patterned = false;
-        for i in &a.inputs {
-            patterned |= sequence::expand(&i.to_string_lossy(), 0)?.is_some();
-        }
-        if !patterned {
-            return Err(Error::invalid(format!(
-                "{}: --frames needs a frame pattern ({{}} or {{:04}}) in an input",
-                a.inputs
-                    .first()
-                    .map(|p| p.display().to_string())
-                    .unwrap_or_default()
-            )));
-        }
-    }
-    let mine = sequence::sharded(&frames.0, a.shard);
-    let mut failed = Vec::new();
-    for (n, &f) in mine.iter().enumerate() {
-        let mut one = a.clone();
-        one.frames = None;
-        one.frame = Some(f);
-        one.output = Some(PathBuf::from(
-            sequence::expand(&out_pattern, f)?.expect("checked"),
-        ));
-        if let Some(exr) = &a.exr {
-            one.exr = sequence::expand(&exr.to_string_lossy(), f)?
-                .map(PathBuf::from)
-                .or(Some(exr.clone()));
-        }
-        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
-        let target = one.output.clone().expect("set");
-        if a.resume {
-            // A run killed mid-write leaves a hidden `.NAME.tmp-PID-N`; this shard owns frame f.
-            let mut removed = 0;
-            for t in std::iter::once(&target).chain(one.exr.as_ref()) {
-                removed += crate::atomic::remove_stale_temps(t)?;
-            }
-            if removed > 0 && !a.quiet {
-                let _ = writeln!(
-                    out,
-                    "frame {f}: removed {removed} unfinished temporary file(s) of an interrupted run"
-                );
-            }
-        }
-        let finished = std::iter::once(&target)
-            .chain(one.exr.as_ref())
-            .all(|p| p.exists());
-        if a.resume && finished {
-            if !a.quiet {
-                let _ = writeln!(out, "frame {f}: {} exists, skipped", target.display());
-            }
-            continue;
-        }
-        if !a.quiet {
-            let _ = writeln!(out, "frame {f} ({}/{}):", n + 1, mine.len());
-        }
-        match render_one(&one, out) {
-            Ok(()) => {}
-            Err(e) if a.keep_going => {
-                eprintln!("filmsplat: error: frame {f}: {e}");
-                failed.push(f);
-            }
-            Err(e) => return Err(Error::invalid(format!("frame {f}: {e}"))),
-        }
-    }
-    if !failed.is_empty() {
-        return Err(Error::invalid(format!(
-            "{} of {} frames failed: {:?}",
-            failed.len(),
-            mine.len(),
-            failed
-        )));
-    }
-    Ok(())
+    sequence::render_sequence(a, &frames.0, out)
 }
 
-/// Renders one image.
-fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
-    let (desc, base) = scene_from_args(a)?;
-    let output = match (&a.output, &desc.output.path) {
+/// The image a render writes: -o, else the scene file's output.path, else render.png.
+fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
+    match (&a.output, &desc.output.path) {
         (Some(o), _) => o.clone(),
         (None, Some(p)) => base.join(p),
         (None, None) => PathBuf::from("render.png"),
-    };
-    for p in std::iter::once(&output).chain(a.exr.as_ref()) {
-        let ext = p
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        if !matches!(ext.as_deref(), Some("png" | "exr")) {
-            return Err(Error::invalid(format!(
-                "{}: output must end in .png or .exr",
-                p.display()
-            )));
-        }
     }
-    if let Some(limit) = a.max_memory {
-        let exr = std::iter::once(&output)
-            .chain(a.exr.as_ref())
+}
+
+/// Refuses an output that is neither .png nor .exr.
+pub(super) fn check_extension(p: &Path) -> Result<()> {
+    let ext = p
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if matches!(ext.as_deref(), Some("png" | "exr")) {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            p.display()
+        )))
+    }
+}
+
+/// Checks everything that can be checked before loading: output names, the estimated peak
+/// memory against --max-memory or the machine's available memory, the output folders
+/// (created); then prepares the scene. `progress` shows the render's progress bar.
+pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = output_path(a, &desc, &base);
+    let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
+    for p in &outputs {
+        check_extension(p)?;
+    }
+    if let Some(limit) = memory::Limit::new(a.max_memory) {
+        let exr = outputs
+            .iter()
             .any(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
-        let estimate = memory::estimate_scene(&desc, &base, exr)?;
-        if estimate.total() > limit {
-            return Err(Error::invalid(format!(
-                "{}: estimated peak memory {estimate} exceeds --max-memory {}",
-                a.inputs
-                    .first()
-                    .map(|p| p.display().to_string())
-                    .unwrap_or_default(),
-                memory::human_bytes(limit)
-            )));
+        match memory::estimate_scene(&desc, &base, exr) {
+            Ok(estimate) => limit
+                .check(&estimate)
+                .map_err(|m| Error::invalid(format!("{}: {m}", a.first_input())))?,
+            // Without a limit of the user's, an input the estimate cannot read is left to the
+            // reader, which names the problem better.
+            Err(_) if matches!(limit, memory::Limit::Available(_)) => {}
+            Err(e) => return Err(e),
         }
     }
+    for p in &outputs {
+        crate::atomic::prepare_output(p)?;
+    }
+    pipeline::prepare(&desc, &base, progress)
+}
+
+/// Renders one image; `ready` is its scene if the caller already prepared it.
+pub(super) fn render_one(
+    a: &RenderArgs,
+    out: &mut dyn Write,
+    ready: Option<Prepared>,
+) -> Result<()> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = output_path(a, &desc, &base);
     let progress = !a.quiet && std::io::stderr().is_terminal();
-    let prepared = pipeline::prepare(&desc, &base, progress)?;
+    let prepared = match ready {
+        Some(mut p) => {
+            p.settings.progress = progress;
+            p
+        }
+        None => prepare_frame(a, progress)?,
+    };
     if !a.quiet {
         for note in prepared
             .notes

@@ -96,6 +96,13 @@ pub fn run(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
                 .collect::<Result<_>>()?
         }
     };
+    // Fail before the work: every folder the frames go in exists and takes files.
+    let mut ready = std::collections::BTreeSet::new();
+    for (path, _) in &jobs {
+        if ready.insert(path.parent()) {
+            crate::atomic::prepare_output(path)?;
+        }
+    }
     for (path, time) in jobs {
         let p = SampleParams {
             time,
@@ -131,6 +138,7 @@ fn write_bubble_mesh(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
             a.radius
         )));
     }
+    crate::atomic::prepare_output(&a.output)?;
     let mesh = icosphere(a.radius, a.subdivisions);
     write_mesh_ply(&a.output, &mesh)?;
     let _ = writeln!(

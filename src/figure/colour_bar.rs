@@ -2,19 +2,34 @@
 
 use crate::image::{Anchor, RgbImage, draw_line, draw_text, draw_text_vertical, fill_rect};
 
-/// Returns `img` widened on the right by a panel holding a vertical colour bar from `min`
-/// (bottom) to `max` (top), coloured by `ramp(t)` for t in [0, 1] (linear RGB), with tick
-/// labels and the `title` written along it. Text and bar scale with the image height.
+/// Width in pixels of the colour-bar panel of a `width`×`height` image: 150 px for a 540 px
+/// high image, scaled with the height (0.35–4×) but never more than a third of the width.
+/// A view with a bar renders the scene in the remaining `width − colour_bar_width` columns,
+/// so the picture with its bar is exactly `width` wide.
+pub fn colour_bar_width(width: usize, height: usize) -> usize {
+    let s = (height as f32 / 540.0)
+        .clamp(0.35, 4.0)
+        .min(width as f32 / 450.0);
+    ((150.0 * s).round() as usize).min(width.saturating_sub(1))
+}
+
+/// Returns `img` widened on the right by a `panel` pixels wide panel (see
+/// [`colour_bar_width`]) holding a vertical colour bar from `min` (bottom) to `max` (top),
+/// coloured by `ramp(t)` for t in [0, 1] (linear RGB), with tick labels and the `title`
+/// written along it. Text and bar scale with the panel.
 pub fn add_colour_bar(
     img: &RgbImage,
+    panel: usize,
     title: &str,
     min: f32,
     max: f32,
     ramp: &dyn Fn(f32) -> [f32; 3],
 ) -> RgbImage {
     let h = img.height;
-    let s = (h as f32 / 540.0).clamp(0.35, 4.0);
-    let panel = (150.0 * s).round() as usize;
+    if panel == 0 {
+        return img.clone();
+    }
+    let s = panel as f32 / 150.0;
     let mut out = RgbImage::filled(img.width + panel, h, [0.012; 3]);
     for y in 0..h {
         for x in 0..img.width {
@@ -79,15 +94,38 @@ mod tests {
 
     #[test]
     fn the_bar_spans_the_ramp_and_keeps_the_image() {
-        let img = RgbImage::filled(100, 200, [0.5; 3]);
-        let out = add_colour_bar(&img, "thickness (nm)", 0.0, 1000.0, &|t| [t, 0.0, 1.0 - t]);
-        assert_eq!(out.height, 200);
-        assert!(out.width > 100);
+        let (w, h) = (300, 200);
+        let panel = colour_bar_width(w, h);
+        assert_eq!(panel, (150.0f32 * 200.0 / 540.0).round() as usize);
+        let img = RgbImage::filled(w - panel, h, [0.5; 3]);
+        let out = add_colour_bar(&img, panel, "thickness (nm)", 0.0, 1000.0, &|t| {
+            [t, 0.0, 1.0 - t]
+        });
+        assert_eq!((out.width, out.height), (w, h));
         assert_eq!(out.get(50, 100), [0.5; 3]);
         // Column through the middle of the bar: red rises toward the top.
-        let x = 100 + (36.0 * (200.0f32 / 540.0).clamp(0.35, 4.0)) as usize;
+        let x = w - panel + (36.0 * panel as f32 / 150.0) as usize;
         let top = out.get(x, 25)[0];
         let bottom = out.get(x, 175)[0];
         assert!(top > 0.8 && bottom < 0.2, "{top} {bottom}");
+    }
+
+    #[test]
+    fn the_panel_fits_any_size() {
+        for (w, h) in [
+            (1, 1),
+            (2, 500),
+            (64, 48),
+            (320, 180),
+            (180, 320),
+            (1920, 1080),
+        ] {
+            let panel = colour_bar_width(w, h);
+            assert!(panel < w && panel <= w / 3 + 1, "{w}x{h}: {panel}");
+            let img = RgbImage::filled(w - panel, h, [0.5; 3]);
+            let out = add_colour_bar(&img, panel, "t", 0.0, 1.0, &|t| [t; 3]);
+            assert_eq!((out.width, out.height), (w, h));
+        }
+        assert_eq!(colour_bar_width(1920, 1080), 300);
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::image::{Anchor, RgbImage, draw_text, text_width, viridis};
 
-use super::add_colour_bar;
+use super::{add_colour_bar, colour_bar_width};
 
 /// `[a | b | heat map + colour bar]` under a strip holding `labels[0]` over `a`, `labels[1]`
 /// over `b` and `heat_title` over the map. `a` and `b` are displayed linear RGB of the same
@@ -28,7 +28,10 @@ pub fn side_by_side(
     for (px, d) in heat.data.iter_mut().zip(delta_e) {
         *px = viridis((d / max).clamp(0.0, 1.0));
     }
-    let heat = add_colour_bar(&heat, "ΔE00", 0.0, max, &viridis);
+    // The bar goes beside the heat map, which keeps the renders' size (the bar of a view is
+    // sized to fit inside its image; this figure has room to spare).
+    let panel = colour_bar_width(usize::MAX, h);
+    let heat = add_colour_bar(&heat, panel, "ΔE00", 0.0, max, &viridis);
     let size = (0.06 * h as f32).max(10.0);
     let strip = (1.6 * size).ceil() as usize;
     let gap = (0.02 * w as f32).ceil() as usize;

@@ -188,6 +188,71 @@ pub fn estimate_scene(desc: &SceneDesc, base: &Path, exr: bool) -> Result<Memory
     }
 }
 
+/// The machine's available memory, bytes: `MemAvailable` of `/proc/meminfo` (what can be
+/// allocated without swapping, counting reclaimable caches). `None` where that file is not
+/// readable (not Linux) or has no such line; then no default limit applies.
+pub fn available_memory() -> Option<u64> {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|t| parse_meminfo(&t))
+}
+
+/// `MemAvailable` of a `/proc/meminfo` text, bytes (the file gives kB, i.e. KiB).
+pub fn parse_meminfo(text: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let mut words = line["MemAvailable:".len()..].split_whitespace();
+    let value: u64 = words.next()?.parse().ok()?;
+    match words.next() {
+        Some("kB") => value.checked_mul(1024),
+        None => Some(value),
+        Some(_) => None,
+    }
+}
+
+/// Where a memory limit comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Limit {
+    /// Set by the user (`--max-memory`), bytes.
+    Explicit(u64),
+    /// The machine's available memory ([`available_memory`]), bytes.
+    Available(u64),
+}
+
+impl Limit {
+    /// The user's limit if given, else the machine's available memory, else none.
+    pub fn new(explicit: Option<u64>) -> Option<Limit> {
+        explicit
+            .map(Limit::Explicit)
+            .or_else(|| available_memory().map(Limit::Available))
+    }
+
+    /// The limit, bytes.
+    pub fn bytes(self) -> u64 {
+        match self {
+            Limit::Explicit(b) | Limit::Available(b) => b,
+        }
+    }
+
+    /// Refuses `estimate` if it exceeds the limit: a message saying by how much and what to do.
+    pub fn check(self, estimate: &MemoryEstimate) -> std::result::Result<(), String> {
+        if estimate.total() <= self.bytes() {
+            return Ok(());
+        }
+        Err(match self {
+            Limit::Explicit(b) => format!(
+                "estimated peak memory {estimate} exceeds --max-memory {}",
+                human_bytes(b)
+            ),
+            Limit::Available(b) => format!(
+                "estimated peak memory {estimate} exceeds the machine's available memory {} \
+                 (MemAvailable, /proc/meminfo); render fewer particles or pixels, or set \
+                 --max-memory to try anyway",
+                human_bytes(b)
+            ),
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -218,5 +283,30 @@ mod tests {
         assert!(png >= 66.0 && exr >= 123.0, "{png} {exr}");
         let absurd = MemoryEstimate::new(u64::MAX, 32_768, 32_768, true, u64::MAX);
         assert_eq!(absurd.total(), u64::MAX);
+    }
+
+    #[test]
+    fn meminfo_parses_and_limits_refuse_what_exceeds_them() {
+        let text =
+            "MemTotal:       24000000 kB\nMemFree:        1000 kB\nMemAvailable:   2048 kB\n";
+        assert_eq!(parse_meminfo(text), Some(2 << 20));
+        assert_eq!(parse_meminfo("MemTotal: 5 kB\n"), None);
+        assert_eq!(parse_meminfo("MemAvailable: lots\n"), None);
+        assert_eq!(parse_meminfo("MemAvailable: 5 MB\n"), None);
+        let e = MemoryEstimate::new(1_000_000, 64, 48, false, 0);
+        assert!(Limit::Available(e.total()).check(&e).is_ok());
+        let msg = Limit::Available(e.total() - 1).check(&e).unwrap_err();
+        assert!(
+            msg.contains("available memory") && msg.contains("--max-memory"),
+            "{msg}"
+        );
+        let msg = Limit::Explicit(1 << 20).check(&e).unwrap_err();
+        assert!(msg.contains("exceeds --max-memory 1.0 MiB"), "{msg}");
+        assert_eq!(Limit::new(Some(7)), Some(Limit::Explicit(7)));
+        // On Linux the default is this machine's MemAvailable.
+        if let Some(m) = available_memory() {
+            assert!(m > 0);
+            assert!(matches!(Limit::new(None), Some(Limit::Available(_))));
+        }
     }
 }

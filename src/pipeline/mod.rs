@@ -11,6 +11,7 @@
 //! ```
 
 pub mod compare;
+pub mod framing;
 pub mod memory;
 #[cfg(feature = "reconstruct")]
 pub mod reconstruct;
@@ -34,6 +35,7 @@ use crate::samples::{SampleKind, SampleParams, sparse};
 use crate::scene::SceneDesc;
 use crate::spectrum::WavelengthStrategy;
 use crate::{Error, Result};
+use framing::Framing;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -46,6 +48,12 @@ const DETAIL_NEIGHBOURS: usize = 12;
 pub struct Prepared {
     /// Geometry, camera and light.
     pub scene: Scene,
+    /// What auto-framing frames of this cloud (used for the camera unless the scene names a
+    /// position; a sequence frames once, see [`framing`]).
+    pub framing: Framing,
+    /// Width / height of the part of the image the scene fills (the image without a view's
+    /// colour bar): the aspect auto-framing frames for.
+    pub aspect: f32,
     /// The film shader.
     pub shader: FilmShader,
     /// Sampling settings.
@@ -468,24 +476,27 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         // An MLS crossing is refined to 1e-3 radii: a twentieth of a radius clears it.
         Primitive::Mls => 0.05 * median_radius,
     };
-    let centre = 0.5 * (bounds.min + bounds.max);
-    let reach = cloud
-        .positions
-        .iter()
-        .zip(&radii)
-        .chain(
-            drops
-                .iter()
-                .flat_map(|d| d.positions.iter().zip(d.radius.iter().flatten())),
-        )
-        .map(|(p, r)| (*p - centre).length() + r)
-        .fold(0.0f32, f32::max);
-    let camera = camera(
-        desc,
-        centre,
-        reach,
-        settings.width as f32 / settings.height as f32,
-    )?;
+    // Frame the films and the droplets together.
+    let mut parts = Vec::new();
+    if !cloud.is_empty() {
+        let fb = geometry.bounds();
+        parts.push(Framing::of_splats(fb.min, fb.max, &cloud.positions, &radii));
+    }
+    for d in drops.iter().filter(|d| !d.is_empty()) {
+        let r = d.radius.clone().unwrap_or_else(|| vec![0.0; d.len()]);
+        let (lo, hi) = d
+            .positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(*p), hi.max(*p))
+            });
+        parts.push(Framing::of_splats(lo, hi, &d.positions, &r));
+    }
+    let framing = Framing::union_all(&parts)
+        .unwrap_or_else(|| Framing::of_splats(bounds.min, bounds.max, &[], &[]));
+    let centre = framing.centre;
+    let aspect = scene_aspect(view, settings.width, settings.height);
+    let camera = camera(desc, &framing, aspect)?;
     let environment = environment(desc, base)?;
     let mut staging = studio::staging(desc, base, centre, epsilon)?;
     let n_droplets = droplets.len();
@@ -501,6 +512,8 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             epsilon,
             staging,
         },
+        framing,
+        aspect,
         shader,
         settings,
         exposure: desc.output.exposure.unwrap_or(0.0),
@@ -556,22 +569,18 @@ fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
     }
 }
 
-fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Camera> {
+/// The scene's explicit camera, or the auto-framed one for `framing` (see [`framing`]).
+fn camera(desc: &SceneDesc, framing: &Framing, aspect: f32) -> Result<Camera> {
     let c = &desc.camera;
-    let fov = c.fov.unwrap_or(40.0);
-    if !(1.0..=170.0).contains(&fov) {
-        return Err(Error::invalid(format!(
-            "camera.fov must be 1..170 degrees, got {fov}"
-        )));
-    }
-    let up = vec3(c.up.unwrap_or([0.0, 1.0, 0.0]), "camera.up")?;
+    let fov = framing::checked_fov(c)?;
+    let up = vec3(c.up.unwrap_or(framing::DEFAULT_UP), "camera.up")?;
     match c.position {
         Some(p) => {
             let target = c
                 .look_at
                 .map(|t| vec3(t, "camera.look_at"))
                 .transpose()?
-                .unwrap_or(centre);
+                .unwrap_or(framing.centre);
             let p = vec3(p, "camera.position")?;
             if (p - target).length_squared() == 0.0 {
                 return Err(Error::invalid(
@@ -580,14 +589,23 @@ fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Cam
             }
             lens(c, Camera::look_at(p, target, up, fov), target)
         }
-        None => {
-            let from = vec3(c.from.unwrap_or([0.35, 0.3, 1.0]), "camera.from")?;
-            lens(
-                c,
-                Camera::frame(centre, reach, from, up, fov, aspect),
-                centre,
-            )
-        }
+        None => framing::auto_camera(desc, framing, aspect),
+    }
+}
+
+/// Width / height of the part of a `width`×`height` image that `view` fills with the scene:
+/// all of it, or what its colour bar leaves.
+pub fn scene_aspect(view: View, width: usize, height: usize) -> f32 {
+    scene_width(view, width, height) as f32 / height as f32
+}
+
+/// Columns of a `width`×`height` image that `view` fills with the scene (the rest is its
+/// colour bar).
+fn scene_width(view: View, width: usize, height: usize) -> usize {
+    if view.has_legend() {
+        width - crate::figure::colour_bar_width(width, height)
+    } else {
+        width
     }
 }
 
@@ -715,15 +733,30 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
 }
 
 /// Renders the prepared scene's scientific view (see [`View`]); `None` for the shaded view.
+/// The picture is exactly the settings' width × height: a view with a colour bar renders the
+/// scene in the columns the bar leaves (see [`crate::figure::colour_bar_width`]) and draws the
+/// bar, its labels matching [`crate::render::Legend::colour`], in the rest.
 pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
     if p.view == View::Shaded {
         return Ok(None);
     }
-    crate::render::render_view(&p.scene, p.view, p.settings.width, p.settings.height).map(Some)
+    let (width, height) = (p.settings.width, p.settings.height);
+    let scene_w = scene_width(p.view, width, height);
+    let mut v = crate::render::render_view(&p.scene, p.view, scene_w, height)?;
+    if let Some(l) = &v.legend {
+        let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
+        let img = RgbImage::from_data(v.width, v.height, data)?;
+        let ramp = |t: f32| l.colour(l.min + t * (l.max - l.min)).to_array();
+        let img =
+            crate::figure::add_colour_bar(&img, width - scene_w, &l.title, l.min, l.max, &ramp);
+        v.width = img.width;
+        v.rgb = img.data.iter().map(|c| Vec3::from(*c)).collect();
+    }
+    Ok(Some(v))
 }
 
-/// Writes a view: PNG with its colour bar beside it (clamp tone curve, 0 EV), or EXR with the
-/// view's linear RGB.
+/// Writes a view (from [`render_view`], colour bar included): PNG (clamp tone curve, 0 EV), or
+/// EXR holding the same picture in linear RGB.
 pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
     let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
     let img = RgbImage::from_data(v.width, v.height, data)?;
@@ -732,22 +765,7 @@ pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("png") => {
-            let img = match &v.legend {
-                Some(l) => {
-                    let ramp = |t: f32| {
-                        if l.viridis {
-                            crate::image::viridis(t)
-                        } else {
-                            [crate::image::srgb_to_linear(0.08 + 0.92 * t); 3]
-                        }
-                    };
-                    crate::figure::add_colour_bar(&img, &l.title, l.min, l.max, &ramp)
-                }
-                None => img,
-            };
-            save_png(path, &img, 0.0, ToneMap::Clamp)
-        }
+        Some("png") => save_png(path, &img, 0.0, ToneMap::Clamp),
         Some("exr") => {
             let rgba = img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
             write_exr(path, &ExrLayers::rgba(v.width, v.height, rgba))

@@ -45,6 +45,13 @@ impl FromStr for View {
     }
 }
 
+impl View {
+    /// True for the views drawn with a colour bar (thickness, depth, coverage).
+    pub fn has_legend(self) -> bool {
+        matches!(self, View::Thickness | View::Depth | View::Coverage)
+    }
+}
+
 impl fmt::Display for View {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -58,7 +65,9 @@ impl fmt::Display for View {
     }
 }
 
-/// A colour bar for a view: the value range its colours span.
+/// A colour bar for a view: the value range its colours span and how values map to colours.
+/// The view paints each pixel with [`Legend::colour`] and the bar shows the same function, so
+/// the two cannot disagree.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Legend {
     /// Title, with unit.
@@ -67,8 +76,32 @@ pub struct Legend {
     pub min: f32,
     /// Value at the top of the bar.
     pub max: f32,
-    /// True for viridis, false for the grey ramp (dark = min).
-    pub viridis: bool,
+    /// How values between `min` and `max` are coloured.
+    pub ramp: Ramp,
+}
+
+/// A legend's colour ramp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ramp {
+    /// Viridis: dark purple at `min`, yellow at `max`.
+    Viridis,
+    /// Grey, light at `min`, dark at `max` (depth: near is light).
+    GreyFalling,
+}
+
+impl Legend {
+    /// Linear RGB of value `v` (clamped to `min..max`; mid-ramp if the range is empty).
+    pub fn colour(&self, v: f32) -> Vec3 {
+        let t = if self.max > self.min {
+            ((v - self.min) / (self.max - self.min)).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        match self.ramp {
+            Ramp::Viridis => Vec3::from(viridis(t)),
+            Ramp::GreyFalling => Vec3::splat(grey(1.0 - t)),
+        }
+    }
 }
 
 /// A rendered view: display-ready linear RGB (write it with the clamp tone curve at 0 EV) and
@@ -81,7 +114,7 @@ pub struct ViewImage {
     pub height: usize,
     /// Linear RGB.
     pub rgb: Vec<Vec3>,
-    /// The colour bar to draw beside it.
+    /// The view's colour bar, if it has one.
     pub legend: Option<Legend>,
 }
 
@@ -125,52 +158,28 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
                 (lo.min(v), hi.max(v))
             })
     };
-    let normalise = |v: f32, (lo, hi): (f32, f32)| {
-        if hi > lo {
-            ((v - lo) / (hi - lo)).clamp(0.0, 1.0)
-        } else {
-            0.5
-        }
+    let legend = |title: &str, (min, max): (f32, f32), ramp| Legend {
+        title: title.into(),
+        min,
+        max,
+        ramp,
     };
     let (colour, legend): (Colouring, Option<Legend>) = match view {
         View::Thickness => {
-            let r = range(&|h| h.thickness_nm);
-            let legend = Legend {
-                title: "thickness (nm)".into(),
-                min: r.0,
-                max: r.1,
-                viridis: true,
-            };
-            (
-                Box::new(move |h| Vec3::from(viridis(normalise(h.thickness_nm, r)))),
-                Some(legend),
-            )
+            let l = legend("thickness (nm)", range(&|h| h.thickness_nm), Ramp::Viridis);
+            let paint = l.clone();
+            (Box::new(move |h| paint.colour(h.thickness_nm)), Some(l))
         }
         View::Depth => {
-            let r = range(&|h| h.t);
-            let legend = Legend {
-                title: "distance (scene units)".into(),
-                min: r.0,
-                max: r.1,
-                viridis: false,
-            };
-            (
-                Box::new(move |h| Vec3::splat(grey(1.0 - normalise(h.t, r)))),
-                Some(legend),
-            )
+            let l = legend("distance (scene units)", range(&|h| h.t), Ramp::GreyFalling);
+            let paint = l.clone();
+            (Box::new(move |h| paint.colour(h.t)), Some(l))
         }
         View::Coverage => {
             let r = (1.0, range(&|h| h.coverage as f32).1.max(2.0));
-            let legend = Legend {
-                title: "splats blended".into(),
-                min: r.0,
-                max: r.1,
-                viridis: true,
-            };
-            (
-                Box::new(move |h| Vec3::from(viridis(normalise(h.coverage as f32, r)))),
-                Some(legend),
-            )
+            let l = legend("splats blended", r, Ramp::Viridis);
+            let paint = l.clone();
+            (Box::new(move |h| paint.colour(h.coverage as f32)), Some(l))
         }
         View::Normal => (
             Box::new(|h| (h.normal * 0.5 + Vec3::splat(0.5)).map(srgb_to_linear)),

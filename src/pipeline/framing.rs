@@ -1,0 +1,221 @@
+//! Auto-framing: the sphere a camera frames when the scene names no camera position, and the
+//! one camera a whole sequence keeps (so a moving cloud moves in the picture).
+//!
+//! A sequence is framed once, on its first frame ([`Framing`] of that frame's prepared cloud)
+//! or on the union of all its frames ([`Framing::union_all`]), and every frame is rendered from
+//! [`sequence_camera`]'s explicit position and look-at. Both depend only on the frames, never
+//! on which job of a render farm asks, so sharded jobs agree without talking.
+
+use super::vec3;
+use crate::render::Camera;
+use crate::scene::{CameraDesc, SceneDesc};
+use crate::{Error, Result};
+use glam::Vec3;
+
+/// Default direction from the cloud toward an auto-framed camera.
+pub const DEFAULT_FROM: [f32; 3] = [0.35, 0.3, 1.0];
+/// Default vertical field of view, degrees.
+pub const DEFAULT_FOV: f32 = 40.0;
+/// Default up direction.
+pub const DEFAULT_UP: [f32; 3] = [0.0, 1.0, 0.0];
+
+/// What auto-framing frames: a box around the films and a sphere about the box's centre that
+/// holds every splat whole. Scene units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Framing {
+    /// Lower corner of the films' bounding box.
+    pub min: Vec3,
+    /// Upper corner of the films' bounding box.
+    pub max: Vec3,
+    /// Centre of the box: the point an auto-framed camera looks at.
+    pub centre: Vec3,
+    /// Radius of the sphere about `centre` that holds every splat (centre distance + radius).
+    pub reach: f32,
+}
+
+impl Framing {
+    /// The framing of splats at `positions` with `radii` whose geometry's box is
+    /// `min`..`max`: centre of that box, reach to the farthest splat rim. Cost: one pass.
+    pub fn of_splats(min: Vec3, max: Vec3, positions: &[Vec3], radii: &[f32]) -> Self {
+        let centre = 0.5 * (min + max);
+        let reach = positions
+            .iter()
+            .zip(radii)
+            .map(|(p, r)| (*p - centre).length() + r)
+            .fold(0.0f32, f32::max);
+        Framing {
+            min,
+            max,
+            centre,
+            reach,
+        }
+    }
+
+    /// One framing holding all of `framings` (e.g. every frame of a sequence): the union of
+    /// their boxes, and a sphere about its centre holding each one's sphere. Independent of
+    /// the order of `framings`. `None` if there are none.
+    pub fn union_all(framings: &[Framing]) -> Option<Framing> {
+        let first = framings.first()?;
+        let (min, max) = framings.iter().fold((first.min, first.max), |(lo, hi), f| {
+            (lo.min(f.min), hi.max(f.max))
+        });
+        let centre = 0.5 * (min + max);
+        let reach = framings
+            .iter()
+            .map(|f| (f.centre - centre).length() + f.reach)
+            .fold(0.0f32, f32::max);
+        Some(Framing {
+            min,
+            max,
+            centre,
+            reach,
+        })
+    }
+}
+
+/// The camera auto-framing picks for `framing` in an image of aspect `aspect` (width / height
+/// of the part the scene fills): from `camera.from`, at the distance where the sphere fills
+/// the smaller image dimension, looking at its centre, with the scene's lens. Ignores
+/// `camera.position` (see [`super::prepare`] for the camera a single render uses).
+///
+/// # Errors
+/// [`Error::Invalid`] for a bad `camera.fov`, `camera.up`, `camera.from`, aperture or focus.
+pub fn auto_camera(desc: &SceneDesc, framing: &Framing, aspect: f32) -> Result<Camera> {
+    let c = &desc.camera;
+    let fov = checked_fov(c)?;
+    let up = vec3(c.up.unwrap_or(DEFAULT_UP), "camera.up")?;
+    let from = vec3(c.from.unwrap_or(DEFAULT_FROM), "camera.from")?;
+    let cam = Camera::frame(framing.centre, framing.reach, from, up, fov, aspect);
+    super::lens(c, cam, framing.centre)
+}
+
+/// `camera.fov` (default 40°), checked to be 1..170 degrees.
+pub(super) fn checked_fov(c: &CameraDesc) -> Result<f32> {
+    let fov = c.fov.unwrap_or(DEFAULT_FOV);
+    if !(1.0..=170.0).contains(&fov) {
+        return Err(Error::invalid(format!(
+            "camera.fov must be 1..170 degrees, got {fov}"
+        )));
+    }
+    Ok(fov)
+}
+
+/// The explicit camera that reproduces [`auto_camera`] for `framing` exactly: `desc.camera`
+/// with `position` and `look_at` set (and `fov`, `up` filled in with their defaults). Given to
+/// every frame of a sequence, it renders the same pixels as auto-framing would on a cloud
+/// with this framing. `None` if the scene already names a camera position (it wins).
+///
+/// # Errors
+/// As [`auto_camera`].
+pub fn sequence_camera(
+    desc: &SceneDesc,
+    framing: &Framing,
+    aspect: f32,
+) -> Result<Option<CameraDesc>> {
+    if desc.camera.position.is_some() {
+        return Ok(None);
+    }
+    let cam = auto_camera(desc, framing, aspect)?;
+    let mut c = desc.camera.clone();
+    c.position = Some(cam.position.to_array());
+    c.look_at = Some(framing.centre.to_array());
+    c.fov = Some(checked_fov(&desc.camera)?);
+    c.up = Some(c.up.unwrap_or(DEFAULT_UP));
+    Ok(Some(c))
+}
+
+/// `[camera]` lines of a scene file for `c`'s position, look-at, field of view and up (the
+/// keys that are set), with every number written so it reads back to the same `f32`.
+pub fn camera_toml(c: &CameraDesc) -> String {
+    let v3 = |v: [f32; 3]| format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]));
+    let mut s = String::from("[camera]\n");
+    if let Some(p) = c.position {
+        s += &format!("position = {}\n", v3(p));
+    }
+    if let Some(t) = c.look_at {
+        s += &format!("look_at = {}\n", v3(t));
+    }
+    if let Some(f) = c.fov {
+        s += &format!("fov = {}\n", num(f));
+    }
+    if let Some(u) = c.up {
+        s += &format!("up = {}\n", v3(u));
+    }
+    s
+}
+
+/// A TOML float that parses back to exactly `v` (Rust's shortest round-trip form, with a
+/// decimal point).
+fn num(v: f32) -> String {
+    format!("{v:?}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(min: [f32; 3], max: [f32; 3], reach: f32) -> Framing {
+        let (min, max) = (Vec3::from(min), Vec3::from(max));
+        Framing {
+            min,
+            max,
+            centre: 0.5 * (min + max),
+            reach,
+        }
+    }
+
+    #[test]
+    fn the_union_holds_every_sphere_in_any_order() {
+        let a = f([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0], 1.8);
+        let b = f([3.0, -1.0, -1.0], [5.0, 1.0, 1.0], 1.8);
+        let c = f([0.0, 2.0, 0.0], [0.5, 2.5, 0.5], 0.4);
+        let u = Framing::union_all(&[a, b, c]).unwrap();
+        assert_eq!(u.min, Vec3::new(-1.0, -1.0, -1.0));
+        assert_eq!(u.max, Vec3::new(5.0, 2.5, 1.0));
+        for g in [a, b, c] {
+            assert!((g.centre - u.centre).length() + g.reach <= u.reach + 1e-6);
+        }
+        // Tight: the farthest sphere touches the union's.
+        let tight = [a, b, c]
+            .iter()
+            .map(|g| (g.centre - u.centre).length() + g.reach)
+            .fold(0.0f32, f32::max);
+        assert_eq!(u.reach, tight);
+        assert_eq!(Framing::union_all(&[c, b, a]), Some(u));
+        assert_eq!(Framing::union_all(&[a]), Some(a));
+        assert_eq!(Framing::union_all(&[]), None);
+    }
+
+    #[test]
+    fn the_sequence_camera_reproduces_auto_framing_and_reads_back() {
+        let desc = SceneDesc::default();
+        let fr = Framing::of_splats(
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.5, 0.2),
+            &[Vec3::new(-0.9, 0.1, 0.1), Vec3::new(0.9, 0.4, 0.1)],
+            &[0.1, 0.1],
+        );
+        let auto = auto_camera(&desc, &fr, 16.0 / 9.0).unwrap();
+        let fixed = sequence_camera(&desc, &fr, 16.0 / 9.0).unwrap().unwrap();
+        let toml = camera_toml(&fixed);
+        let back = SceneDesc::from_toml(&toml, "pasted").unwrap();
+        assert_eq!(back.camera.position, fixed.position, "{toml}");
+        assert_eq!(back.camera.look_at, fixed.look_at);
+        assert_eq!(back.camera.fov, Some(40.0));
+        assert_eq!(back.camera.up, Some([0.0, 1.0, 0.0]));
+        // The pasted camera is the auto-framed one, bit for bit.
+        let c = &back.camera;
+        let explicit = Camera::look_at(
+            Vec3::from(c.position.unwrap()),
+            Vec3::from(c.look_at.unwrap()),
+            Vec3::from(c.up.unwrap()),
+            c.fov.unwrap(),
+        );
+        let explicit = super::super::lens(c, explicit, Vec3::from(c.look_at.unwrap())).unwrap();
+        assert_eq!(explicit, auto);
+        // A scene camera wins.
+        let mut named = SceneDesc::default();
+        named.camera.position = Some([0.0, 0.0, 5.0]);
+        assert!(sequence_camera(&named, &fr, 1.0).unwrap().is_none());
+    }
+}
