@@ -258,6 +258,13 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     } else {
         validate(&cloud).map_err(name_file)?;
     }
+    // Copies at one position would be a pile of identical disks no tree can split.
+    let coincident = crate::pointcloud::dedupe::drop_coincident(&mut cloud);
+    if coincident > 0 {
+        notes.push(format!(
+            "{coincident} particles at the same position as an earlier one: drawn once"
+        ));
+    }
     let t1 = Instant::now();
     if let Some(t) = cloud
         .thickness_nm

@@ -281,7 +281,7 @@ pub fn repair(cloud: &mut PointCloud) -> RepairReport {
 }
 
 /// Keeps the entries whose `keep` flag is set, in order.
-fn compact<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
+pub(crate) fn compact<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
     let mut w = 0;
     for r in 0..v.len() {
         if keep[r] {
