@@ -62,26 +62,70 @@ pub fn read_bytes_described(
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::new();
-        flate2::read::MultiGzDecoder::new(raw)
-            .read_to_end(&mut out)
-            .map_err(|e| {
-                format_error(
-                    path,
-                    FORMAT,
-                    format!(
-                        "gzip data is corrupt or truncated after {} bytes: {e}",
-                        out.len()
-                    ),
-                )
-            })?;
-        std::borrow::Cow::Owned(out)
+        std::borrow::Cow::Owned(inflate(raw).map_err(|m| format_error(path, FORMAT, m))?)
     } else {
         std::borrow::Cow::Borrowed(raw)
     };
     parse(&bytes)
         .and_then(|c| c.into_cloud(opts, &STANDARD))
         .map_err(|m| format_error(path, FORMAT, m))
+}
+
+/// The header of a gzip-compressed file may take at most this many inflated bytes (its
+/// attribute definitions and string tables).
+const MAX_HEADER_BYTES: u64 = 64 << 20;
+
+/// Largest ratio of inflated to deflated bytes deflate can reach (with a margin).
+const MAX_DEFLATE_RATIO: u64 = 1100;
+
+/// Inflates gzip data only as far as the header's counts need: first the header (growing the
+/// inflated prefix until it parses, at most [`MAX_HEADER_BYTES`]), then exactly the points it
+/// declares; whatever follows (primitives, groups, a bomb's padding) is never inflated. A header
+/// declaring more than the compressed bytes could hold, or more than the memory allowance, is
+/// refused before inflating the points.
+fn inflate(raw: &[u8]) -> Result<Vec<u8>, String> {
+    let mut z = flate2::read::MultiGzDecoder::new(raw);
+    let mut out = Vec::new();
+    let corrupt = |e: std::io::Error, n: usize| {
+        format!("gzip data is corrupt or truncated after {n} bytes: {e}")
+    };
+    let mut want: u64 = 64 << 10;
+    loop {
+        let before = out.len() as u64;
+        (&mut z)
+            .take(want - before)
+            .read_to_end(&mut out)
+            .map_err(|e| corrupt(e, out.len()))?;
+        let ended = (out.len() as u64) < want;
+        match header(&out) {
+            Ok(h) => {
+                let total = h.data_start as u64 + h.n.saturating_mul(h.stride as u64);
+                if total > (raw.len() as u64).saturating_mul(MAX_DEFLATE_RATIO) + 1024 {
+                    return Err(format!(
+                        "the header's {} points need {total} bytes, more than {} compressed \
+                         bytes can inflate to",
+                        h.n,
+                        raw.len()
+                    ));
+                }
+                crate::budget::check(total, || format!("inflating {} points", h.n))?;
+                if (out.len() as u64) < total && !ended {
+                    let need = total - out.len() as u64;
+                    out.try_reserve_exact(need as usize)
+                        .map_err(|_| format!("cannot allocate {need} bytes for the points"))?;
+                    (&mut z)
+                        .take(need)
+                        .read_to_end(&mut out)
+                        .map_err(|e| corrupt(e, out.len()))?;
+                }
+                out.truncate(total.min(out.len() as u64) as usize);
+                return Ok(out);
+            }
+            // The parse reports what is wrong.
+            Err(_) if ended || want >= MAX_HEADER_BYTES => return Ok(out),
+            Err(_) => want = (want * 4).min(MAX_HEADER_BYTES),
+        }
+    }
 }
 
 /// A big-endian cursor.
@@ -134,8 +178,17 @@ struct Attr {
     keep: bool,
 }
 
-/// Parses the decompressed file into columns.
-fn parse(b: &[u8]) -> Result<Columns, String> {
+/// What the header says: the point count, the attributes, the bytes per point and where the
+/// points start.
+struct Header {
+    n: u64,
+    attrs: Vec<Attr>,
+    stride: usize,
+    data_start: usize,
+}
+
+/// Parses the header (everything before the points).
+fn header(b: &[u8]) -> Result<Header, String> {
     if b.is_empty() {
         return Err("empty file".into());
     }
@@ -210,7 +263,23 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         });
         words += size;
     }
-    let stride = 4 * words;
+    Ok(Header {
+        n,
+        attrs,
+        stride: 4 * words,
+        data_start: c.pos,
+    })
+}
+
+/// Parses the decompressed file into columns.
+fn parse(b: &[u8]) -> Result<Columns, String> {
+    let Header {
+        n,
+        attrs,
+        stride,
+        data_start,
+    } = header(b)?;
+    let mut c = Cur { b, pos: data_start };
     let left = (b.len() - c.pos) as u64;
     let need = n.saturating_mul(stride as u64);
     if need > left {
