@@ -37,7 +37,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) preset: Option<String>,
     /// Camera samples per pixel.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 65_536))]
     pub(super) spp: Option<u32>,
     /// Image size WIDTHxHEIGHT in pixels (default 960x540).
     #[arg(long, value_parser = super::parse::size)]
@@ -51,29 +51,29 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) shading: Option<String>,
     /// Wavelengths per camera sample for --shading rgb (1..64).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<usize>(1, 64))]
     pub(super) wavelengths: Option<usize>,
     /// Wavelength sampling for --shading rgb: jittered, stratified or hero.
     #[arg(long)]
     pub(super) strategy: Option<String>,
     /// Most film crossings along one path.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(0, 64))]
     pub(super) max_depth: Option<u32>,
     /// Russian roulette below this branch weight (0..1; 0, the default, is off): dim branches
     /// of the ray tree are followed at random, unbiased. Fewer rays for some noise; pays for
     /// --primitive sphere, where a camera sample crosses many films (the balanced and final
     /// presets use 0.1 there).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) roulette: Option<f32>,
     /// Film index of refraction (default 1.33).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) ior: Option<f32>,
     /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
     /// the thin-film SPH code's frame folders, nm otherwise).
     #[arg(long)]
     pub(super) thickness_unit: Option<String>,
     /// Extra factor on thickness after the unit conversion.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) thickness_scale: Option<f32>,
     /// Name of the thickness attribute (default: the first of the aliases below).
     #[arg(long)]
@@ -85,10 +85,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) radius_attr: Option<String>,
     /// Thickness in nm for clouds without one (default 500).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) default_thickness: Option<f32>,
     /// Factor on all splat radii (estimated from spacing or read from the file).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) radius_scale: Option<f32>,
     /// Do not blend overlapping disks into one film crossing (for comparison: the film is then
     /// applied once per disk and colours jump at splat rims).
@@ -102,10 +102,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) env: Option<String>,
     /// Rotation of an environment map about +y, degrees.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) env_rotation: Option<f32>,
     /// Multiplier on the environment's radiance.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) env_intensity: Option<f32>,
     /// Camera position x,y,z (scene units); default: auto-framing.
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
@@ -114,29 +114,29 @@ pub struct RenderArgs {
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
     pub(super) look_at: Option<[f32; 3]>,
     /// Vertical field of view, degrees.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) fov: Option<f32>,
     /// Exposure, EV (stops).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::parse::finite_f32)]
     pub(super) exposure: Option<f32>,
     /// Light samples per prop hit (each: a light point, an environment direction and a
     /// material direction, combined by multiple importance sampling).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 1024))]
     pub(super) light_samples: Option<u32>,
     /// Thin-lens aperture radius, scene units (0: pinhole, everything sharp).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) aperture: Option<f32>,
     /// Distance in focus, scene units (default: the distance to the look-at point).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) focus_distance: Option<f32>,
     /// White balance: neutralise light of this colour temperature, kelvin (1667..25000).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) white_balance: Option<f32>,
     /// Contrast around middle grey (1 = unchanged).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) contrast: Option<f32>,
     /// Saturation (1 = unchanged, 0 = grey).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) saturation: Option<f32>,
     /// Tone curve for PNG: filmic or clamp.
     #[arg(long)]
@@ -418,7 +418,7 @@ fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         }
     }
     let progress = !a.quiet && std::io::stderr().is_terminal();
-    let prepared = pipeline::prepare(&desc, &base, progress)?;
+    let prepared = pipeline::prepare(&desc, &base, progress).map_err(|e| desc.locate(e))?;
     if !a.quiet {
         for note in prepared
             .notes

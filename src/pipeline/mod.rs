@@ -206,10 +206,31 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             settings.width, settings.height
         )));
     }
+    // The image buffers are allocated after the cloud is loaded: refuse a size that cannot fit
+    // before anything is read.
+    let pixels = settings.width as u64 * settings.height as u64;
+    crate::budget::check(
+        pixels * (memory::RENDER_BYTES_PER_PIXEL + memory::PNG_BYTES_PER_PIXEL),
+        || format!("a {}x{} render", settings.width, settings.height),
+    )
+    .map_err(Error::invalid)?;
     if !(0.0..=1.0).contains(&settings.roulette) {
         return Err(Error::invalid(format!(
             "render.roulette must be between 0 (off) and 1, got {}",
             settings.roulette
+        )));
+    }
+    if !(0.0..=1.0).contains(&settings.min_weight) {
+        return Err(Error::invalid(format!(
+            "render.min_weight must be between 0 and 1, got {}",
+            settings.min_weight
+        )));
+    }
+    if let Some(ev) = desc.output.exposure
+        && !(ev.is_finite() && ev.abs() <= 64.0)
+    {
+        return Err(Error::invalid(format!(
+            "output.exposure must be within -64..64 EV, got {ev}"
         )));
     }
     if settings.spp == 0 {
