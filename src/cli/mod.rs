@@ -6,6 +6,7 @@ mod chart;
 mod compare;
 mod convert;
 mod film;
+mod glob;
 mod info;
 mod parse;
 mod render;

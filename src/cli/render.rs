@@ -1,6 +1,6 @@
 //! `filmsplat render`: render a particle cloud or a scene file.
 
-use super::sequence;
+use super::{glob, sequence};
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
 use crate::pipeline::memory;
@@ -16,10 +16,15 @@ use std::time::Instant;
 #[command(after_help = attribute_help())]
 pub struct RenderArgs {
     /// A particle file (.ply, .vtk, .vtu, .bgeo[.gz], .csv/.xyz), a frame folder of the
-    /// thin-film SPH code (x_bin, norm_bin, rh_bin, ...), or a scene file (.toml).
+    /// thin-film SPH code (x_bin, norm_bin, rh_bin, ...), or a scene file (.toml); `-` reads a
+    /// particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe such as
+    /// `<(cat f.ply)`; a quoted glob ('frames/*.ply': * and ? in the file name) renders every
+    /// match, sorted, as a sequence.
     pub(super) input: PathBuf,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
-    /// hit-count layers). Default: the scene file's output.path, else render.png.
+    /// hit-count layers); `-` writes the PNG to standard output; `{stem}` is the input's file
+    /// stem (with a quoted glob input, each match's). Default: the scene file's output.path,
+    /// else render.png.
     #[arg(short, long)]
     pub(super) output: Option<PathBuf>,
     /// Also write the linear EXR with all layers to this path.
@@ -298,6 +303,9 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
 
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    if a.frames.is_none() && glob::is_glob(&a.input) && !a.input.exists() {
+        return run_glob(a, out);
+    }
     let Some(frames) = &a.frames else {
         return render_one(a, out);
     };
@@ -384,14 +392,101 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
+/// Renders every match of a quoted glob input (`'frames/*.ply'`), sorted by name, as a sequence:
+/// `{stem}` in -o (and --exr) names each output after its input; the n-th match's seed is the
+/// seed plus n.
+fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    let inputs = glob::expand(&a.input)?;
+    let output = a.output.as_ref().ok_or_else(|| {
+        Error::invalid(format!(
+            "{}: a glob input needs -o with {{stem}}, e.g. -o 'out/{{stem}}.png'",
+            a.input.display()
+        ))
+    })?;
+    for p in std::iter::once(output).chain(a.exr.as_ref()) {
+        if inputs.len() > 1 && !p.to_string_lossy().contains("{stem}") {
+            return Err(Error::invalid(format!(
+                "{}: {} files match {}; the output needs {{stem}} (e.g. 'out/{{stem}}.png') so \
+                 they do not overwrite each other",
+                p.display(),
+                inputs.len(),
+                a.input.display()
+            )));
+        }
+    }
+    let mut failed = Vec::new();
+    for (n, input) in inputs.iter().enumerate() {
+        let mut one = a.clone();
+        one.input = input.clone();
+        one.output = Some(glob::with_stem(output, input));
+        one.exr = a.exr.as_ref().map(|e| glob::with_stem(e, input));
+        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(n as u64));
+        let target = one.output.clone().expect("set");
+        if a.resume && std::iter::once(&target).chain(one.exr.as_ref()).all(|p| p.exists()) {
+            if !a.quiet {
+                let _ = writeln!(out, "{}: {} exists, skipped", input.display(), target.display());
+            }
+            continue;
+        }
+        if !a.quiet {
+            let _ = writeln!(out, "{} ({}/{}):", input.display(), n + 1, inputs.len());
+        }
+        match render_one(&one, out) {
+            Ok(()) => {}
+            Err(e) if a.keep_going => {
+                eprintln!("filmsplat: error: {e}");
+                failed.push(input.display().to_string());
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    if !failed.is_empty() {
+        return Err(Error::invalid(format!(
+            "{} of {} inputs failed: {}",
+            failed.len(),
+            inputs.len(),
+            failed.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// Renders `a` (whose output is `-`) to a spool file, then copies the finished PNG to standard
+/// output, so standard output receives the whole image or nothing; messages go to stderr.
+fn render_to_stdout(a: &RenderArgs) -> Result<()> {
+    static SPOOLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = SPOOLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let spool =
+        std::env::temp_dir().join(format!("filmsplat-{}-{n}-stdout.png", std::process::id()));
+    let mut one = a.clone();
+    one.output = Some(spool.clone());
+    let mut said = Vec::new();
+    let result = render_one(&one, &mut said);
+    let said = String::from_utf8_lossy(&said).replace(&spool.display().to_string(), "standard output");
+    eprint!("{said}");
+    let result = result.and_then(|()| {
+        let bytes = std::fs::read(&spool).map_err(|e| Error::io(&spool, e))?;
+        let mut stdout = std::io::stdout().lock();
+        stdout
+            .write_all(&bytes)
+            .and_then(|()| stdout.flush())
+            .map_err(|e| Error::io("-", e))
+    });
+    let _ = std::fs::remove_file(&spool);
+    result
+}
+
 /// Renders one image.
 fn render_one(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let (desc, base) = scene_from_args(a)?;
     let output = match (&a.output, &desc.output.path) {
-        (Some(o), _) => o.clone(),
+        (Some(o), _) => glob::with_stem(o, &a.input),
         (None, Some(p)) => base.join(p),
         (None, None) => PathBuf::from("render.png"),
     };
+    if output.as_os_str() == "-" {
+        return render_to_stdout(a);
+    }
     for p in std::iter::once(&output).chain(a.exr.as_ref()) {
         let ext = p
             .extension()
