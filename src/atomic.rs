@@ -163,12 +163,18 @@ mod tests {
         let live = format!(".a.png.tmp-{}-99", std::process::id());
         fs::write(d.join(&live), b"mine").unwrap();
         fs::write(d.join(".b.png.tmp-4194304-0"), b"other target").unwrap();
-        write_atomic(&target, |w| w.write_all(b"new").map_err(|e| Error::io(&target, e)))
-            .unwrap();
+        write_atomic(&target, |w| {
+            w.write_all(b"new").map_err(|e| Error::io(&target, e))
+        })
+        .unwrap();
         if Path::new("/proc/self").exists() {
             assert_eq!(
                 entries(&d),
-                vec![live, ".b.png.tmp-4194304-0".to_string(), "a.png".to_string()]
+                vec![
+                    live,
+                    ".b.png.tmp-4194304-0".to_string(),
+                    "a.png".to_string()
+                ]
             );
         }
     }

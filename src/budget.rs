@@ -106,4 +106,3 @@ pub fn parse_size(s: &str) -> std::result::Result<u64, String> {
     }
     Ok(bytes as u64)
 }
-

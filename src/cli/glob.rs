@@ -93,9 +93,7 @@ mod tests {
         match p.split_first() {
             None => n.is_empty(),
             Some(('*', rest)) => (0..=n.len()).any(|k| oracle(rest, &n[k..])),
-            Some((&c, rest)) => {
-                !n.is_empty() && (c == '?' || c == n[0]) && oracle(rest, &n[1..])
-            }
+            Some((&c, rest)) => !n.is_empty() && (c == '?' || c == n[0]) && oracle(rest, &n[1..]),
         }
     }
 
@@ -104,7 +102,9 @@ mod tests {
         let alphabet = ['a', 'b', '*', '?'];
         let mut seed = 7u64;
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 33) as usize
         };
         for _ in 0..5000 {

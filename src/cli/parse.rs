@@ -103,8 +103,17 @@ pub fn size(s: &str) -> Result<(usize, usize), String> {
             .parse::<usize>()
             .map_err(|_| format!("size '{s}' must be WIDTHxHEIGHT with whole numbers"))
     };
-    Ok((parse(w)?, parse(h)?))
+    let (w, h) = (parse(w)?, parse(h)?);
+    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
+        return Err(format!(
+            "size '{s}' must be between 1x1 and {MAX_SIDE}x{MAX_SIDE}"
+        ));
+    }
+    Ok((w, h))
 }
+
+/// Largest image side in pixels.
+const MAX_SIDE: usize = 32_768;
 
 /// Parses a 3-vector `x,y,z`.
 pub fn vec3(s: &str) -> Result<[f32; 3], String> {

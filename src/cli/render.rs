@@ -422,9 +422,18 @@ fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         one.exr = a.exr.as_ref().map(|e| glob::with_stem(e, input));
         one.seed = Some(a.seed.unwrap_or(0).wrapping_add(n as u64));
         let target = one.output.clone().expect("set");
-        if a.resume && std::iter::once(&target).chain(one.exr.as_ref()).all(|p| p.exists()) {
+        if a.resume
+            && std::iter::once(&target)
+                .chain(one.exr.as_ref())
+                .all(|p| p.exists())
+        {
             if !a.quiet {
-                let _ = writeln!(out, "{}: {} exists, skipped", input.display(), target.display());
+                let _ = writeln!(
+                    out,
+                    "{}: {} exists, skipped",
+                    input.display(),
+                    target.display()
+                );
             }
             continue;
         }
@@ -462,7 +471,8 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
     one.output = Some(spool.clone());
     let mut said = Vec::new();
     let result = render_one(&one, &mut said);
-    let said = String::from_utf8_lossy(&said).replace(&spool.display().to_string(), "standard output");
+    let said =
+        String::from_utf8_lossy(&said).replace(&spool.display().to_string(), "standard output");
     eprint!("{said}");
     let result = result.and_then(|()| {
         let bytes = std::fs::read(&spool).map_err(|e| Error::io(&spool, e))?;

@@ -176,7 +176,11 @@ fn check_declared_size(path: &Path) -> Result<()> {
             })
             .sum();
         let stored_bytes = pixels.saturating_mul(stored);
-        if stored_bytes > file_bytes.saturating_mul(MAX_EXR_RATIO).saturating_add(1 << 16) {
+        if stored_bytes
+            > file_bytes
+                .saturating_mul(MAX_EXR_RATIO)
+                .saturating_add(1 << 16)
+        {
             return Err(invalid(format!(
                 "the header declares {w}x{hgt} pixels ({stored_bytes} bytes of samples), more \
                  than its {file_bytes} bytes can hold"

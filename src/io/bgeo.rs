@@ -316,3 +316,37 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
     }
     Ok(cols)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn bomb(declared: i32, padding: usize) -> (Vec<u8>, usize) {
+        let mut b = b"BgeoV".to_vec();
+        for v in [5, declared, 0, 0, 0, 0, 0, 0, 0] {
+            b.extend(v.to_be_bytes());
+        }
+        let header = b.len();
+        b.resize(header + 16 * declared.max(0) as usize, 1);
+        let implied = b.len();
+        b.resize(b.len() + padding, 0);
+        let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        e.write_all(&b).unwrap();
+        (e.finish().unwrap(), implied)
+    }
+
+    #[test]
+    fn inflates_exactly_what_the_header_implies() {
+        // 5 points and 32 MiB of padding: only the header and the 5 points are inflated.
+        let (gz, implied) = bomb(5, 32 << 20);
+        assert_eq!(inflate(&gz).unwrap().len(), implied);
+        // Points beyond the first inflated chunk are inflated too, and nothing after them.
+        let (gz, implied) = bomb(20_000, 1 << 20);
+        assert_eq!(inflate(&gz).unwrap().len(), implied);
+        // Truncated data: what there is, for the parser to report.
+        let (gz, _) = bomb(5, 0);
+        let cut = inflate(&gz[..gz.len() - 30]);
+        assert!(cut.is_err() || cut.unwrap().len() < 45 + 80);
+    }
+}

@@ -222,7 +222,9 @@ fn by_content(head: &[u8], path: &Path) -> Result<CloudFormat> {
     }
     if head.starts_with(&[0x1f, 0x8b]) {
         let mut inner = Vec::with_capacity(16);
-        let _ = flate2::read::GzDecoder::new(head).take(16).read_to_end(&mut inner);
+        let _ = flate2::read::GzDecoder::new(head)
+            .take(16)
+            .read_to_end(&mut inner);
         match sniff(&inner) {
             Some(CloudFormat::Bgeo) => return Ok(CloudFormat::Bgeo),
             Some(f) => {

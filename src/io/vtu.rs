@@ -398,7 +398,8 @@ fn check_total_work(pieces: &[Piece], set: &Settings<'_>) -> Result<(), String> 
         values = values.saturating_add(count);
         if a.enc == Encoding::Appended {
             offsets.push((a.offset, show(&a.name)));
-            appended_bytes = appended_bytes.saturating_add(count.saturating_mul(a.ty.size() as u64));
+            appended_bytes =
+                appended_bytes.saturating_add(count.saturating_mul(a.ty.size() as u64));
         }
     }
     offsets.sort();

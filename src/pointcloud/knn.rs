@@ -43,7 +43,11 @@ struct Groups {
 
 /// A position's bits with -0.0 folded into +0.0, so equal positions get equal keys.
 fn key(p: Vec3) -> [u32; 3] {
-    [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), (p.z + 0.0).to_bits()]
+    [
+        (p.x + 0.0).to_bits(),
+        (p.y + 0.0).to_bits(),
+        (p.z + 0.0).to_bits(),
+    ]
 }
 
 impl PointIndex {
@@ -111,7 +115,10 @@ impl PointIndex {
         if self.finite == 0 || k == 0 {
             return Vec::new();
         }
-        let entries = self.groups.as_ref().map_or(self.finite, |g| g.starts.len() - 1);
+        let entries = self
+            .groups
+            .as_ref()
+            .map_or(self.finite, |g| g.starts.len() - 1);
         // k + 1 entries hold at least k + 1 particles, so k remain after excluding one.
         let want = (k + 1).min(entries);
         let Some(n) = NonZeroUsize::new(want) else {

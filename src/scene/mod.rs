@@ -281,11 +281,13 @@ impl SceneDesc {
                 },
             }
         })?;
-        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| crate::Error::Format {
-            path: name.into(),
-            format: "scene TOML",
-            message: e.message().to_string(),
-        })?;
+        let table: toml::Table =
+            text.parse()
+                .map_err(|e: toml::de::Error| crate::Error::Format {
+                    path: name.into(),
+                    format: "scene TOML",
+                    message: e.message().to_string(),
+                })?;
         if let Some((key, v)) = check::bad_float(&table) {
             let keys: Vec<&str> = key.iter().map(String::as_str).collect();
             let at = key_line(text, &keys).map_or(String::new(), |l| format!("line {l}: "));
