@@ -308,6 +308,16 @@ fn devices_are_refused_and_pipes_are_read_once_with_a_bound() {
         err.contains("zero.ply") && err.contains("character device"),
         "{err}"
     );
+    // A scene file that is /dev/zero.
+    let scene = tmp("zero.toml");
+    let _ = std::fs::remove_file(&scene);
+    std::os::unix::fs::symlink("/dev/zero", &scene).unwrap();
+    let (code, _, err) = filmsplat(&["render", s(&scene), "-o", s(&out)]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("zero.toml") && err.contains("character device"),
+        "{err}"
+    );
     // A named pipe without a writer: refused after the (shortened) wait, not a hang.
     let fifo = tmp("lonely.fifo");
     let _ = std::fs::remove_file(&fifo);

@@ -204,7 +204,13 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     let (mut d, base) = if is_toml {
-        let text = std::fs::read_to_string(&a.input).map_err(|e| Error::io(&a.input, e))?;
+        // Scene files are small: at most 16 MiB, never a device.
+        let bytes = crate::io::input::read_small(&a.input, 16 << 20)?;
+        let text = String::from_utf8(bytes).map_err(|_| Error::Format {
+            path: a.input.clone(),
+            format: "scene TOML",
+            message: "not UTF-8 text".into(),
+        })?;
         let d = SceneDesc::from_toml(&text, &a.input.display().to_string())?;
         (
             d,

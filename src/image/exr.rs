@@ -146,14 +146,23 @@ pub fn write_exr(path: &Path, layers: &ExrLayers) -> Result<()> {
     })
 }
 
-/// Largest ratio of an EXR's pixel bytes to its file size any of its compressions reaches (ZIP's
-/// deflate limit, with a margin).
+/// Largest ratio of an EXR's pixel bytes to its file size ZIP, PXR24 and B44 reach (deflate's
+/// limit, with a margin).
 const MAX_EXR_RATIO: u64 = 1100;
 
 /// Reads only the headers and refuses an image whose declared size cannot be in the file (more
 /// pixel bytes than the file could decompress to) or would not fit in memory (its samples as
 /// f32, twice: the decoder's copy and ours), before the decoder allocates anything for it.
 fn check_declared_size(path: &Path) -> Result<()> {
+    // A pipe would block the open and a device never ends: only regular files.
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(Error::Format {
+            path: path.to_path_buf(),
+            format: "EXR",
+            message: "not a regular file".into(),
+        });
+    }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map(|m| m.len()).unwrap_or(0);
     let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), false)
@@ -176,10 +185,17 @@ fn check_declared_size(path: &Path) -> Result<()> {
             })
             .sum();
         let stored_bytes = pixels.saturating_mul(stored);
-        if stored_bytes
-            > file_bytes
-                .saturating_mul(MAX_EXR_RATIO)
-                .saturating_add(1 << 16)
+        // The best ratio each compression reaches; PIZ (run-length Huffman) and the lossy DWA
+        // have no useful bound, so only the memory check below applies to them.
+        use ::exr::compression::Compression as C;
+        let ratio = match h.compression {
+            C::Uncompressed => Some(1),
+            C::RLE => Some(128),
+            C::ZIP1 | C::ZIP16 | C::PXR24 | C::B44 | C::B44A => Some(MAX_EXR_RATIO),
+            _ => None,
+        };
+        if let Some(ratio) = ratio
+            && stored_bytes > file_bytes.saturating_mul(ratio).saturating_add(1 << 16)
         {
             return Err(invalid(format!(
                 "the header declares {w}x{hgt} pixels ({stored_bytes} bytes of samples), more \

@@ -12,8 +12,11 @@
 //! Float, int and vector attributes become attributes (sizes other than 1 split by
 //! [`crate::io`]'s rules; ints are converted to f32); indexed-string attributes are skipped;
 //! `string` (type 2) and unknown types are errors. The new JSON-based `.bgeo` of Houdini 12+
-//! is recognised and rejected with a hint. The (decompressed) file is read into memory; the
-//! point count is checked against its size before allocating.
+//! is recognised and rejected with a hint. A plain file is read into memory and the point count
+//! checked against its size before allocating; gzip data is inflated only as far as the
+//! header's counts need (the header, then exactly the declared points: never a bomb's
+//! padding), after checking those counts against what the compressed size can hold and the
+//! memory allowance ([`crate::budget`]).
 
 use std::io::Read;
 use std::path::Path;
@@ -32,8 +35,9 @@ const FORMAT: &str = "BGEO";
 
 /// Reads the BGEO file at `path` into a [`PointCloud`] (see the module docs).
 ///
-/// Cost: reads (and inflates, if gzip) the file into memory, then one pass over the points;
-/// peak memory is the decompressed file plus the cloud.
+/// Cost: reads the file into memory (inflating gzip only up to the declared points), then one
+/// pass over the points; peak memory is the file, the inflated header and points, and the
+/// cloud.
 ///
 /// # Errors
 /// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file

@@ -112,6 +112,32 @@ pub(crate) fn read_all(
     path: &Path,
     head_ok: &dyn Fn(&[u8]) -> std::result::Result<(), String>,
 ) -> Result<Vec<u8>> {
+    read_limited(path, None, head_ok)
+}
+
+/// Reads a small text input (a scene file) whole: a regular file or a pipe of at most
+/// `max_bytes`, refusing devices and anything longer.
+///
+/// # Errors
+/// As [`read_all`]; [`Error::Format`] if it holds more than `max_bytes`.
+pub fn read_small(path: &Path, max_bytes: u64) -> Result<Vec<u8>> {
+    if let Kind::File(len) = kind(path)?
+        && len > max_bytes
+    {
+        return Err(Error::Format {
+            path: path.to_path_buf(),
+            format: "input",
+            message: format!("{len} bytes, more than the {max_bytes} accepted for this input"),
+        });
+    }
+    read_limited(path, Some(max_bytes), &|_| Ok(()))
+}
+
+fn read_limited(
+    path: &Path,
+    max_stream: Option<u64>,
+    head_ok: &dyn Fn(&[u8]) -> std::result::Result<(), String>,
+) -> Result<Vec<u8>> {
     let fail = |message: String| Error::Format {
         path: path.to_path_buf(),
         format: "input",
@@ -133,7 +159,7 @@ pub(crate) fn read_all(
                 .map_err(|e| Error::io(path, e))?;
             return Ok(out);
         }
-        Kind::Stdin | Kind::Pipe => stream_limit(),
+        Kind::Stdin | Kind::Pipe => max_stream.unwrap_or_else(stream_limit),
     };
     let bytes = if is_stdin(path) {
         use std::io::IsTerminal;

@@ -284,9 +284,10 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
         }
         input::Kind::File(_) => {}
     }
-    let mut head = Vec::with_capacity(16);
+    // 4 KiB: enough to inflate the first bytes of gzip data.
+    let mut head = Vec::with_capacity(4096);
     std::fs::File::open(path)
-        .and_then(|f| f.take(16).read_to_end(&mut head))
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
         .map_err(|e| Error::io(path, e))?;
     by_content(&head, path)
 }

@@ -386,16 +386,16 @@ fn text_until_end(sc: &mut Scanner<'_>) -> Result<Vec<Range<usize>>, String> {
 /// Bounds the whole file's work before decoding anything: no two appended arrays may start at
 /// the same offset (many `Piece`s pointing at one block would decode it again and again), the
 /// appended arrays together cannot declare more bytes than the appended data holds (times the
-/// best zlib ratio when compressed), and the decoded values must fit in the memory allowance.
+/// best zlib ratio when compressed). (Each array's decoded values are checked against the
+/// memory allowance by [`block`] once its sizes are known to fit the file.)
 fn check_total_work(pieces: &[Piece], set: &Settings<'_>) -> Result<(), String> {
     let arrays = pieces
         .iter()
         .flat_map(|p| p.points.iter().chain(&p.data).map(move |a| (p.n, a)));
     let mut offsets = Vec::new();
-    let (mut appended_bytes, mut values) = (0u64, 0u64);
+    let mut appended_bytes = 0u64;
     for (n, a) in arrays {
         let count = n.saturating_mul(a.k);
-        values = values.saturating_add(count);
         if a.enc == Encoding::Appended {
             offsets.push((a.offset, show(&a.name)));
             appended_bytes =
@@ -425,9 +425,7 @@ fn check_total_work(pieces: &[Piece], set: &Settings<'_>) -> Result<(), String> 
             ));
         }
     }
-    crate::budget::check(values.saturating_mul(4), || {
-        format!("decoding {values} values")
-    })
+    Ok(())
 }
 
 /// Decodes one array of `n` tuples to f32.
@@ -590,6 +588,11 @@ fn block<'a>(
             "{csum} compressed bytes cannot inflate to the {total} bytes expected"
         ));
     }
+    // The inflated bytes and their f32 values.
+    let values = total / a.ty.size() as u64;
+    crate::budget::check(total.saturating_add(values.saturating_mul(4)), || {
+        format!("inflating {values} values")
+    })?;
     let mut raw: Vec<u8> = Vec::with_capacity(total as usize);
     for (i, &c) in sizes.iter().enumerate() {
         let want = if i + 1 == sizes.len() && last != 0 {

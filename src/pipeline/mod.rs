@@ -315,9 +315,9 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         .enumerate()
         .find(|(_, v)| !thickness_ok(v))
     {
-        return Err(Error::invalid(format!(
+        return Err(name_file(Error::invalid(format!(
             "particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm"
-        )));
+        ))));
     }
     // Estimated radii make disks overlap into a closed film; spheres drawn as particles get half
     // of that, so each particle stays visible as its own ball.
