@@ -168,6 +168,23 @@ fn render_sizes_beyond_the_memory_allowance_are_refused_before_loading() {
         None,
     );
     assert_eq!(code, 0, "{err}");
+    // A generated sample's particle count, the same way.
+    let sample = tmp("allowance_sample.ply");
+    let (code, _, err) = run(
+        &[
+            "sample",
+            "bubble",
+            "--particles",
+            "10000000",
+            "-o",
+            s(&sample),
+        ],
+        &limit,
+        None,
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--particles = 10000000 needs"), "{err}");
+    assert!(!sample.exists());
     // The CLI's own bound on sizes, at the flag.
     let a = args("40000x10");
     let (code, _, err) = run(&a.iter().map(String::as_str).collect::<Vec<_>>(), &[], None);

@@ -295,10 +295,11 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
 /// A stream's first bytes are acceptable if they (or the path's extension) name a format.
 fn stream_head_ok(path: &Path) -> impl Fn(&[u8]) -> std::result::Result<(), String> + '_ {
     move |head: &[u8]| {
-        by_content(head, path).map(|_| ()).map_err(|_| {
-            "its first bytes are not PLY, VTK, VTK XML or BGEO (a pipe's format is told \
-             from its content)"
-                .to_string()
+        by_content(head, path).map(|_| ()).map_err(|e| match e {
+            Error::Format { message, .. } if message.starts_with("gzip-compressed") => message,
+            _ => "its first bytes are not PLY, VTK, VTK XML or BGEO (a pipe's format is told \
+                  from its content)"
+                .to_string(),
         })
     }
 }

@@ -104,6 +104,12 @@ pub fn check_sample_params(p: &SampleParams, sparse: Option<f64>, prefix: &str) 
             p.particles
         )));
     }
+    // The generated cloud's arrays (positions, normals, thickness, radius) and the generator's
+    // scratch: ~64 bytes a particle.
+    crate::budget::check(p.particles as u64 * 64, || {
+        format!("{prefix}particles = {}", p.particles)
+    })
+    .map_err(Error::invalid)?;
     if !p.time.is_finite() {
         return Err(Error::invalid(format!("{prefix}time must be finite")));
     }
