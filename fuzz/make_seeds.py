@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the small seed corpora in fuzz/corpus/<target>/ (run from fuzz/). Deterministic."""
-import base64, gzip, os, shutil, struct
+import base64, gzip, os, shutil, struct, zlib
 
 C = "corpus"
 def put(target, name, data):
@@ -76,6 +76,21 @@ def bgeo():
     return b + b"\0" * 12
 put("bgeo", "plain.bgeo", bgeo())
 put("bgeo", "gzip.bgeo", gzip.compress(bgeo(), mtime=0))
+
+
+def raw_deflate(b):
+    c = zlib.compressobj(1, zlib.DEFLATED, -15)
+    return c.compress(b) + c.flush()
+
+
+# bgeo_gzip: raw deflate streams (the target adds the gzip framing): a file, and a bomb whose
+# header declares its points and then pads with 4 MiB of zeros.
+put("bgeo_gzip", "file.deflate", raw_deflate(bgeo()))
+put("bgeo_gzip", "bomb.deflate", raw_deflate(bgeo() + bytes(4 << 20)))
+# vtu_zlib: 8 bytes (points, last block size), then a zlib block: 3 points, and a bomb.
+three = struct.pack("<9f", *range(9))
+put("vtu_zlib", "three.bin", struct.pack("<II", 3, 36) + zlib.compress(three))
+put("vtu_zlib", "bomb.bin", struct.pack("<II", 3, 36) + zlib.compress(three + bytes(4 << 20)))
 
 # CSV / XYZ / TSV text.
 put("csv", "comma.csv", "x,y,z,nx,ny,nz,rh\n" + "".join(

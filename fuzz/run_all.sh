@@ -7,7 +7,7 @@ cd "$(dirname "$0")"
 SECONDS_EACH=${1:-180}
 WORK=${2:-/tmp/filmsplat-fuzz}
 mkdir -p "$WORK"
-for t in ply vtk vtu bgeo csv frame_bin scene_toml; do
+for t in ply vtk vtu bgeo csv frame_bin scene_toml bgeo_gzip vtu_zlib; do
     mkdir -p "$WORK/$t"
     cargo +nightly fuzz run -O "$t" "$WORK/$t" "corpus/$t" -- \
         -max_total_time="$SECONDS_EACH" -print_final_stats=1 \

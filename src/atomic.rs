@@ -16,7 +16,11 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 /// Readers therefore see either the old file or the complete new one. On any error (from `f`,
 /// flushing, syncing or renaming) the temporary file is removed and the target is left untouched.
 /// I/O errors name the path concerned. Cost: one extra fsync per file.
+///
+/// Temporaries of `path` that processes no longer running left behind (killed mid-write) are
+/// removed first ([`remove_dead_temps`]).
 pub fn write_atomic(path: &Path, f: impl FnOnce(&mut BufWriter<File>) -> Result<()>) -> Result<()> {
+    remove_dead_temps(path);
     let tmp = temp_path(path)?;
     let file = OpenOptions::new()
         .write(true)
@@ -121,6 +125,42 @@ pub fn prepare_output(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Removes the temporaries `.NAME.tmp-PID-N` of `path` whose process `PID` is no longer running
+/// (Linux: no `/proc/PID`), best effort; a live process's temporary is never touched. Where
+/// liveness cannot be told (no `/proc`), nothing is removed. Returns how many were removed.
+pub fn remove_dead_temps(path: &Path) -> usize {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return 0;
+    }
+    let Some(name) = path.file_name() else {
+        return 0;
+    };
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = fs::read_dir(dir) else {
+        return 0;
+    };
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|rest| rest.split('-').next())
+            .and_then(|pid| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if !proc.join(pid.to_string()).exists() && fs::remove_file(entry.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// Makes the rename durable by syncing the directory (best effort; not possible on all systems).
 fn sync_parent(path: &Path) {
     #[cfg(unix)]
@@ -140,6 +180,31 @@ fn sync_parent(path: &Path) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_plain_write_removes_dead_processes_temporaries_only() {
+        let d = scratch("dead");
+        let target = d.join("a.png");
+        // PID 4194304 is above Linux's largest (pid_max ≤ 2^22): never running.
+        fs::write(d.join(".a.png.tmp-4194304-0"), b"half").unwrap();
+        let live = format!(".a.png.tmp-{}-99", std::process::id());
+        fs::write(d.join(&live), b"mine").unwrap();
+        fs::write(d.join(".b.png.tmp-4194304-0"), b"other target").unwrap();
+        write_atomic(&target, |w| {
+            w.write_all(b"new").map_err(|e| Error::io(&target, e))
+        })
+        .unwrap();
+        if Path::new("/proc/self").exists() {
+            assert_eq!(
+                entries(&d),
+                vec![
+                    live,
+                    ".b.png.tmp-4194304-0".to_string(),
+                    "a.png".to_string()
+                ]
+            );
+        }
+    }
 
     fn scratch(name: &str) -> PathBuf {
         let d =

@@ -26,6 +26,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+pub mod budget;
 pub mod cli;
 pub mod error;
 pub mod figure;

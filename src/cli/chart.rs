@@ -15,13 +15,13 @@ pub struct ChartArgs {
     #[arg(short, long)]
     output: PathBuf,
     /// Largest film thickness on the x axis, nanometres.
-    #[arg(long, default_value_t = 1500.0)]
+    #[arg(long, default_value_t = 1500.0, value_parser = super::parse::finite_f32)]
     max_thickness: f32,
     /// Film index of refraction.
-    #[arg(long, default_value_t = 1.33)]
+    #[arg(long, default_value_t = 1.33, value_parser = super::parse::finite_f32)]
     ior: f32,
     /// Largest angle of incidence on the y axis, degrees (1..=89.9).
-    #[arg(long, default_value_t = 89.0)]
+    #[arg(long, default_value_t = 89.0, value_parser = super::parse::finite_f32)]
     max_angle: f32,
     /// Image size as WIDTHxHEIGHT, pixels.
     #[arg(long, default_value = "1600x900", value_parser = super::parse::size)]
@@ -47,6 +47,11 @@ pub fn run(a: &ChartArgs, out: &mut dyn Write) -> Result<()> {
             "chart: --size must be between 400x300 and 16384x16384",
         ));
     }
+    // The chart, its 8-bit copy and the encoder: ~40 bytes a pixel.
+    crate::budget::check((width * height) as u64 * 40, || {
+        format!("chart: a {width}x{height} chart")
+    })
+    .map_err(Error::invalid)?;
     let params = ChartParams {
         max_thickness_nm: a.max_thickness,
         ior: a.ior,

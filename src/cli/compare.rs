@@ -70,7 +70,7 @@ pub struct CompareArgs {
     #[arg(long, default_value = "kernel")]
     transfer: String,
     /// ΔE2000 at the top of the heat map's scale (larger differences saturate).
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, value_parser = super::parse::finite_f32)]
     heat_max: f32,
     /// Print the metrics as JSON on stdout (notes and warnings go to stderr).
     #[arg(long)]

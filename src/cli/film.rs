@@ -23,7 +23,7 @@ pub struct FilmArgs {
     #[arg(long, value_parser = parse::number_list_arg, allow_hyphen_values = true)]
     angle: Vec<NumberList>,
     /// Index of refraction of the film (soap water ≈ 1.33); the film sits between air and air.
-    #[arg(long, default_value_t = 1.33)]
+    #[arg(long, default_value_t = 1.33, value_parser = super::parse::finite_f64)]
     ior: f64,
     /// Vacuum wavelengths in nanometres, as start:end:step or a list. Default: 380:780:5 for
     /// spectra; 360:830:1 for --rgb.

@@ -6,6 +6,7 @@ mod chart;
 mod compare;
 mod convert;
 mod film;
+mod glob;
 mod info;
 mod parse;
 mod render;
@@ -63,7 +64,20 @@ where
                 let _ = writeln!(out, "{}", e.render().to_string().trim_end());
                 return Ok(());
             }
-            let _ = e.print();
+            // A refused value is one line naming the flag, like every other bad input.
+            if matches!(
+                e.kind(),
+                clap::error::ErrorKind::ValueValidation | clap::error::ErrorKind::InvalidValue
+            ) {
+                let text = e.render().to_string();
+                let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+                eprintln!(
+                    "filmsplat: error: {}",
+                    first.trim_start_matches("error: ").trim()
+                );
+            } else {
+                let _ = e.print();
+            }
             std::process::exit(2);
         }
     };

@@ -59,6 +59,40 @@ fn number(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+/// clap value parser for an `f32` flag: a finite number within the `f32` range (refuses `nan`,
+/// `inf` and values like `1e39` that would become infinite), so a bad value is refused where it
+/// enters, with the flag's name (clap adds it).
+pub fn finite_f32(s: &str) -> Result<f32, String> {
+    let v = number(s)?;
+    if v.abs() > f32::MAX as f64 {
+        return Err(format!("'{s}' is outside the range of a 32-bit float"));
+    }
+    Ok(v as f32)
+}
+
+/// clap value parser for an `f64` flag: a finite number (refuses `nan` and `inf`).
+pub fn finite_f64(s: &str) -> Result<f64, String> {
+    number(s)
+}
+
+/// clap value parser for a whole number in `lo..=hi` (the flag's sane range), e.g.
+/// `value_parser = parse::int_in::<u32>(1, 65536)`.
+pub fn int_in<T>(lo: T, hi: T) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display + Copy + Send + Sync + 'static,
+{
+    move |s: &str| {
+        let v: T = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a whole number in {lo}..={hi}"))?;
+        if v < lo || v > hi {
+            return Err(format!("{v} is outside {lo}..={hi}"));
+        }
+        Ok(v)
+    }
+}
+
 /// Parses an image size `WIDTHxHEIGHT`, e.g. `1280x720`.
 pub fn size(s: &str) -> Result<(usize, usize), String> {
     let (w, h) = s
@@ -69,8 +103,17 @@ pub fn size(s: &str) -> Result<(usize, usize), String> {
             .parse::<usize>()
             .map_err(|_| format!("size '{s}' must be WIDTHxHEIGHT with whole numbers"))
     };
-    Ok((parse(w)?, parse(h)?))
+    let (w, h) = (parse(w)?, parse(h)?);
+    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
+        return Err(format!(
+            "size '{s}' must be between 1x1 and {MAX_SIDE}x{MAX_SIDE}"
+        ));
+    }
+    Ok((w, h))
 }
+
+/// Largest image side in pixels.
+const MAX_SIDE: usize = 32_768;
 
 /// Parses a 3-vector `x,y,z`.
 pub fn vec3(s: &str) -> Result<[f32; 3], String> {

@@ -1,6 +1,6 @@
 //! `filmsplat render`: render a particle cloud or a scene file.
 
-use super::sequence;
+use super::{glob, sequence};
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
 use crate::pipeline::{Prepared, memory};
@@ -17,11 +17,16 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// Particle inputs, rendered together as one scene: files (.ply, .vtk, .vtu/.vtp, .pvd,
     /// .bgeo[.gz], .csv/.xyz), frame or snapshot folders of the thin-film SPH code (film and
-    /// droplets), MELP foam frame folders (every bubble); or one scene file (.toml).
+    /// droplets), MELP foam frame folders (every bubble); or one scene file (.toml). `-` reads a
+    /// particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe such as
+    /// `<(cat f.ply)`; a single quoted glob ('frames/*.ply': * and ? in the file name) renders
+    /// every match, sorted, as a sequence.
     #[arg(required = true, num_args = 1..)]
     pub(super) inputs: Vec<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
-    /// hit-count layers). Default: the scene file's output.path, else render.png.
+    /// hit-count layers); `-` writes the PNG to standard output; `{stem}` is the input's file
+    /// stem (with a quoted glob input, each match's). Default: the scene file's output.path,
+    /// else render.png.
     #[arg(short, long)]
     pub(super) output: Option<PathBuf>,
     /// Also write the linear EXR with all layers to this path.
@@ -39,7 +44,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) preset: Option<String>,
     /// Camera samples per pixel.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 65_536))]
     pub(super) spp: Option<u32>,
     /// Image size WIDTHxHEIGHT in pixels (default 960x540).
     #[arg(long, value_parser = super::parse::size)]
@@ -53,29 +58,29 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) shading: Option<String>,
     /// Wavelengths per camera sample for --shading rgb (1..64).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<usize>(1, 64))]
     pub(super) wavelengths: Option<usize>,
     /// Wavelength sampling for --shading rgb: jittered, stratified or hero.
     #[arg(long)]
     pub(super) strategy: Option<String>,
     /// Most film crossings along one path.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(0, 64))]
     pub(super) max_depth: Option<u32>,
     /// Russian roulette below this branch weight (0..1; 0, the default, is off): dim branches
     /// of the ray tree are followed at random, unbiased. Fewer rays for some noise; pays for
     /// --primitive sphere, where a camera sample crosses many films (the balanced and final
     /// presets use 0.1 there).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) roulette: Option<f32>,
     /// Film index of refraction (default 1.33).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) ior: Option<f32>,
     /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
     /// the thin-film SPH code's frame folders, nm otherwise).
     #[arg(long)]
     pub(super) thickness_unit: Option<String>,
     /// Extra factor on thickness after the unit conversion.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) thickness_scale: Option<f32>,
     /// Name of the thickness attribute (default: the first of the aliases below).
     #[arg(long)]
@@ -87,10 +92,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) radius_attr: Option<String>,
     /// Thickness in nm for clouds without one (default 500).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) default_thickness: Option<f32>,
     /// Factor on all splat radii (estimated from spacing or read from the file).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) radius_scale: Option<f32>,
     /// Do not blend overlapping disks into one film crossing (for comparison: the film is then
     /// applied once per disk and colours jump at splat rims).
@@ -108,10 +113,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) env: Option<String>,
     /// Rotation of an environment map about +y, degrees.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) env_rotation: Option<f32>,
     /// Multiplier on the environment's radiance.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) env_intensity: Option<f32>,
     /// Camera position x,y,z (scene units); default: auto-framing (a sequence is framed once,
     /// on its first frame, see --frame-all).
@@ -121,29 +126,29 @@ pub struct RenderArgs {
     #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
     pub(super) look_at: Option<[f32; 3]>,
     /// Vertical field of view, degrees.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) fov: Option<f32>,
     /// Exposure, EV (stops).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::parse::finite_f32)]
     pub(super) exposure: Option<f32>,
     /// Light samples per prop hit (each: a light point, an environment direction and a
     /// material direction, combined by multiple importance sampling).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 1024))]
     pub(super) light_samples: Option<u32>,
     /// Thin-lens aperture radius, scene units (0: pinhole, everything sharp).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) aperture: Option<f32>,
     /// Distance in focus, scene units (default: the distance to the look-at point).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) focus_distance: Option<f32>,
     /// White balance: neutralise light of this colour temperature, kelvin (1667..25000).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) white_balance: Option<f32>,
     /// Contrast around middle grey (1 = unchanged).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) contrast: Option<f32>,
     /// Saturation (1 = unchanged, 0 = grey).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) saturation: Option<f32>,
     /// Tone curve for PNG: filmic or clamp.
     #[arg(long)]
@@ -249,7 +254,13 @@ fn attribute_help() -> String {
 pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     let (mut d, base) = match a.scene_file()? {
         Some(file) => {
-            let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+            // Scene files are small: at most 16 MiB, never a device.
+            let bytes = crate::io::input::read_small(file, 16 << 20)?;
+            let text = String::from_utf8(bytes).map_err(|_| Error::Format {
+                path: file.clone(),
+                format: "scene TOML",
+                message: "not UTF-8 text".into(),
+            })?;
             let d = SceneDesc::from_toml(&text, &file.display().to_string())?;
             (d, file.parent().map(Path::to_path_buf).unwrap_or_default())
         }
@@ -356,6 +367,13 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
 
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    if let [only] = a.inputs.as_slice()
+        && a.frames.is_none()
+        && glob::is_glob(only)
+        && !only.exists()
+    {
+        return run_glob(a, out);
+    }
     let Some(frames) = &a.frames else {
         if a.frame_all {
             return Err(Error::invalid(
@@ -370,10 +388,108 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
 /// The image a render writes: -o, else the scene file's output.path, else render.png.
 fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
     match (&a.output, &desc.output.path) {
-        (Some(o), _) => o.clone(),
+        (Some(o), _) => match a.inputs.first() {
+            Some(i) => glob::with_stem(o, i),
+            None => o.clone(),
+        },
         (None, Some(p)) => base.join(p),
         (None, None) => PathBuf::from("render.png"),
     }
+}
+
+/// Renders every match of a quoted glob input (`'frames/*.ply'`), sorted by name, as a sequence:
+/// `{stem}` in -o (and --exr) names each output after its input; the n-th match's seed is the
+/// seed plus n.
+fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    let pattern = a.inputs.first().cloned().unwrap_or_default();
+    let inputs = glob::expand(&pattern)?;
+    let output = a.output.as_ref().ok_or_else(|| {
+        Error::invalid(format!(
+            "{}: a glob input needs -o with {{stem}}, e.g. -o 'out/{{stem}}.png'",
+            pattern.display()
+        ))
+    })?;
+    for p in std::iter::once(output).chain(a.exr.as_ref()) {
+        if inputs.len() > 1 && !p.to_string_lossy().contains("{stem}") {
+            return Err(Error::invalid(format!(
+                "{}: {} files match {}; the output needs {{stem}} (e.g. 'out/{{stem}}.png') so \
+                 they do not overwrite each other",
+                p.display(),
+                inputs.len(),
+                pattern.display()
+            )));
+        }
+    }
+    let mut failed = Vec::new();
+    for (n, input) in inputs.iter().enumerate() {
+        let mut one = a.clone();
+        one.inputs = vec![input.clone()];
+        one.output = Some(glob::with_stem(output, input));
+        one.exr = a.exr.as_ref().map(|e| glob::with_stem(e, input));
+        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(n as u64));
+        let target = one.output.clone().expect("set");
+        if a.resume
+            && std::iter::once(&target)
+                .chain(one.exr.as_ref())
+                .all(|p| p.exists())
+        {
+            if !a.quiet {
+                let _ = writeln!(
+                    out,
+                    "{}: {} exists, skipped",
+                    input.display(),
+                    target.display()
+                );
+            }
+            continue;
+        }
+        if !a.quiet {
+            let _ = writeln!(out, "{} ({}/{}):", input.display(), n + 1, inputs.len());
+        }
+        match render_one(&one, out, None) {
+            Ok(()) => {}
+            Err(e) if a.keep_going => {
+                eprintln!("filmsplat: error: {e}");
+                failed.push(input.display().to_string());
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    if !failed.is_empty() {
+        return Err(Error::invalid(format!(
+            "{} of {} inputs failed: {}",
+            failed.len(),
+            inputs.len(),
+            failed.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// Renders `a` (whose output is `-`) to a spool file, then copies the finished PNG to standard
+/// output, so standard output receives the whole image or nothing; messages go to stderr.
+fn render_to_stdout(a: &RenderArgs) -> Result<()> {
+    static SPOOLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = SPOOLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let spool =
+        std::env::temp_dir().join(format!("filmsplat-{}-{n}-stdout.png", std::process::id()));
+    let mut one = a.clone();
+    one.output = Some(spool.clone());
+    let mut said = Vec::new();
+    let result = render_one(&one, &mut said, None);
+    let said =
+        String::from_utf8_lossy(&said).replace(&spool.display().to_string(), "standard output");
+    eprint!("{said}");
+    let result = result.and_then(|()| {
+        let bytes = std::fs::read(&spool).map_err(|e| Error::io(&spool, e))?;
+        let mut stdout = std::io::stdout().lock();
+        stdout
+            .write_all(&bytes)
+            .and_then(|()| stdout.flush())
+            .map_err(|e| Error::io("-", e))
+    });
+    let _ = std::fs::remove_file(&spool);
+    result
 }
 
 /// Refuses an output that is neither .png nor .exr.
@@ -401,6 +517,9 @@ pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> 
     let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
     for p in &outputs {
         check_extension(p)?;
+    }
+    if let Some(bytes) = a.max_memory {
+        crate::budget::set_allowance(bytes);
     }
     if let Some(limit) = memory::Limit::new(a.max_memory) {
         let exr = outputs
@@ -430,13 +549,16 @@ pub(super) fn render_one(
 ) -> Result<()> {
     let (desc, base) = scene_from_args(a)?;
     let output = output_path(a, &desc, &base);
+    if output.as_os_str() == "-" {
+        return render_to_stdout(a);
+    }
     let progress = !a.quiet && std::io::stderr().is_terminal();
     let prepared = match ready {
         Some(mut p) => {
             p.settings.progress = progress;
             p
         }
-        None => prepare_frame(a, progress)?,
+        None => prepare_frame(a, progress).map_err(|e| desc.locate(e))?,
     };
     if !a.quiet {
         for note in prepared

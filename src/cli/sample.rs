@@ -42,26 +42,26 @@ pub struct SampleArgs {
     #[arg(short, long)]
     output: PathBuf,
     /// Number of particles.
-    #[arg(long, default_value_t = 200_000)]
+    #[arg(long, default_value_t = 200_000, value_parser = super::parse::int_in::<usize>(1, 50_000_000))]
     particles: usize,
     /// Seed of the particle jitter and the thickness field.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Time of the animation, seconds (with --frames: of frame 0).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::parse::finite_f32)]
     time: f32,
     /// Write a sequence: frame f at time --time + f/24 s (A..B, A..=B or A).
     #[arg(long, value_parser = sequence::frame_list)]
     frames: Option<FrameList>,
     /// Radius of bubble-mesh, scene units (the bubble sample's is 1).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::parse::finite_f32)]
     radius: f32,
     /// Subdivisions of the icosahedron for bubble-mesh (20·4^N triangles, 0..=9).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = super::parse::int_in::<u32>(0, 9))]
     subdivisions: u32,
     /// Keep only a random fraction F in (0, 1] of the particles (splats widened by 1/√F), to
     /// test sparse data.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::finite_f64)]
     sparse: Option<f64>,
 }
 

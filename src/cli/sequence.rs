@@ -64,7 +64,7 @@ pub fn frames(s: &str) -> std::result::Result<Vec<u64>, String> {
         (num(a)?, num(b)?)
     } else {
         let a = num(s)?;
-        (a, a + 1)
+        (a, a.checked_add(1).ok_or_else(bad)?)
     };
     if b <= a {
         return Err(format!("frames '{s}' is empty"));

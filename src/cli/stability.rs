@@ -23,7 +23,7 @@ pub struct StabilityArgs {
     #[arg(long)]
     depth: Option<String>,
     /// Pixels count only where the depth changes by at most this fraction between frames.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = 0.01, value_parser = super::parse::finite_f32)]
     depth_tolerance: f32,
 }
 

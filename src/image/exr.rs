@@ -146,6 +146,71 @@ pub fn write_exr(path: &Path, layers: &ExrLayers) -> Result<()> {
     })
 }
 
+/// Largest ratio of an EXR's pixel bytes to its file size ZIP, PXR24 and B44 reach (deflate's
+/// limit, with a margin).
+const MAX_EXR_RATIO: u64 = 1100;
+
+/// Reads only the headers and refuses an image whose declared size cannot be in the file (more
+/// pixel bytes than the file could decompress to) or would not fit in memory (its samples as
+/// f32, twice: the decoder's copy and ours), before the decoder allocates anything for it.
+fn check_declared_size(path: &Path) -> Result<()> {
+    // A pipe would block the open and a device never ends: only regular files.
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(Error::Format {
+            path: path.to_path_buf(),
+            format: "EXR",
+            message: "not a regular file".into(),
+        });
+    }
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let file_bytes = file.metadata().map(|m| m.len()).unwrap_or(0);
+    let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), false)
+        .map_err(|e| map_exr_err(path, e))?;
+    let invalid = |message: String| Error::Format {
+        path: path.to_path_buf(),
+        format: "EXR",
+        message,
+    };
+    for h in meta.headers.iter() {
+        let (w, hgt) = (h.layer_size.0 as u64, h.layer_size.1 as u64);
+        let pixels = w.saturating_mul(hgt);
+        let stored: u64 = h
+            .channels
+            .list
+            .iter()
+            .map(|c| match c.sample_type {
+                ::exr::meta::attribute::SampleType::F16 => 2u64,
+                _ => 4,
+            })
+            .sum();
+        let stored_bytes = pixels.saturating_mul(stored);
+        // The best ratio each compression reaches; PIZ (run-length Huffman) and the lossy DWA
+        // have no useful bound, so only the memory check below applies to them.
+        use ::exr::compression::Compression as C;
+        let ratio = match h.compression {
+            C::Uncompressed => Some(1),
+            C::RLE => Some(128),
+            C::ZIP1 | C::ZIP16 | C::PXR24 | C::B44 | C::B44A => Some(MAX_EXR_RATIO),
+            _ => None,
+        };
+        if let Some(ratio) = ratio
+            && stored_bytes > file_bytes.saturating_mul(ratio).saturating_add(1 << 16)
+        {
+            return Err(invalid(format!(
+                "the header declares {w}x{hgt} pixels ({stored_bytes} bytes of samples), more \
+                 than its {file_bytes} bytes can hold"
+            )));
+        }
+        let f32_bytes = pixels.saturating_mul(4 * h.channels.list.len() as u64);
+        crate::budget::check(f32_bytes.saturating_mul(2), || {
+            format!("a {w}x{hgt} image of {} channels", h.channels.list.len())
+        })
+        .map_err(invalid)?;
+    }
+    Ok(())
+}
+
 /// The first layer of an EXR file with all its channels as f32.
 struct Channels {
     width: usize,
@@ -155,6 +220,7 @@ struct Channels {
 
 impl Channels {
     fn read(path: &Path) -> Result<Self> {
+        check_declared_size(path)?;
         let file = File::open(path).map_err(|e| Error::io(path, e))?;
         let image = x::read()
             .no_deep_data()

@@ -83,6 +83,11 @@ pub fn read_png(path: &Path) -> Result<RgbImage> {
         .map_err(|e| bad(e.to_string()))?
         .to_rgb8();
     let (w, h) = (img.width() as usize, img.height() as usize);
+    // The decoder stops at its own limit (512 MiB); the linear copy is 4x the 8-bit image.
+    crate::budget::check((w * h * 12) as u64, || {
+        format!("a {w}x{h} image as linear RGB")
+    })
+    .map_err(bad)?;
     let data = img
         .pixels()
         .map(|p| {

@@ -12,8 +12,11 @@
 //! Float, int and vector attributes become attributes (sizes other than 1 split by
 //! [`crate::io`]'s rules; ints are converted to f32); indexed-string attributes are skipped;
 //! `string` (type 2) and unknown types are errors. The new JSON-based `.bgeo` of Houdini 12+
-//! is recognised and rejected with a hint. The (decompressed) file is read into memory; the
-//! point count is checked against its size before allocating.
+//! is recognised and rejected with a hint. A plain file is read into memory and the point count
+//! checked against its size before allocating; gzip data is inflated only as far as the
+//! header's counts need (the header, then exactly the declared points: never a bomb's
+//! padding), after checking those counts against what the compressed size can hold and the
+//! memory allowance ([`crate::budget`]).
 
 use std::io::Read;
 use std::path::Path;
@@ -32,8 +35,9 @@ const FORMAT: &str = "BGEO";
 
 /// Reads the BGEO file at `path` into a [`PointCloud`] (see the module docs).
 ///
-/// Cost: reads (and inflates, if gzip) the file into memory, then one pass over the points;
-/// peak memory is the decompressed file plus the cloud.
+/// Cost: reads the file into memory (inflating gzip only up to the declared points), then one
+/// pass over the points; peak memory is the file, the inflated header and points, and the
+/// cloud.
 ///
 /// # Errors
 /// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
@@ -62,26 +66,70 @@ pub fn read_bytes_described(
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::new();
-        flate2::read::MultiGzDecoder::new(raw)
-            .read_to_end(&mut out)
-            .map_err(|e| {
-                format_error(
-                    path,
-                    FORMAT,
-                    format!(
-                        "gzip data is corrupt or truncated after {} bytes: {e}",
-                        out.len()
-                    ),
-                )
-            })?;
-        std::borrow::Cow::Owned(out)
+        std::borrow::Cow::Owned(inflate(raw).map_err(|m| format_error(path, FORMAT, m))?)
     } else {
         std::borrow::Cow::Borrowed(raw)
     };
     parse(&bytes)
         .and_then(|c| c.into_cloud(opts, &STANDARD))
         .map_err(|m| format_error(path, FORMAT, m))
+}
+
+/// The header of a gzip-compressed file may take at most this many inflated bytes (its
+/// attribute definitions and string tables).
+const MAX_HEADER_BYTES: u64 = 64 << 20;
+
+/// Largest ratio of inflated to deflated bytes deflate can reach (with a margin).
+const MAX_DEFLATE_RATIO: u64 = 1100;
+
+/// Inflates gzip data only as far as the header's counts need: first the header (growing the
+/// inflated prefix until it parses, at most [`MAX_HEADER_BYTES`]), then exactly the points it
+/// declares; whatever follows (primitives, groups, a bomb's padding) is never inflated. A header
+/// declaring more than the compressed bytes could hold, or more than the memory allowance, is
+/// refused before inflating the points.
+fn inflate(raw: &[u8]) -> Result<Vec<u8>, String> {
+    let mut z = flate2::read::MultiGzDecoder::new(raw);
+    let mut out = Vec::new();
+    let corrupt = |e: std::io::Error, n: usize| {
+        format!("gzip data is corrupt or truncated after {n} bytes: {e}")
+    };
+    let mut want: u64 = 64 << 10;
+    loop {
+        let before = out.len() as u64;
+        (&mut z)
+            .take(want - before)
+            .read_to_end(&mut out)
+            .map_err(|e| corrupt(e, out.len()))?;
+        let ended = (out.len() as u64) < want;
+        match header(&out) {
+            Ok(h) => {
+                let total = h.data_start as u64 + h.n.saturating_mul(h.stride as u64);
+                if total > (raw.len() as u64).saturating_mul(MAX_DEFLATE_RATIO) + 1024 {
+                    return Err(format!(
+                        "the header's {} points need {total} bytes, more than {} compressed \
+                         bytes can inflate to",
+                        h.n,
+                        raw.len()
+                    ));
+                }
+                crate::budget::check(total, || format!("inflating {} points", h.n))?;
+                if (out.len() as u64) < total && !ended {
+                    let need = total - out.len() as u64;
+                    out.try_reserve_exact(need as usize)
+                        .map_err(|_| format!("cannot allocate {need} bytes for the points"))?;
+                    (&mut z)
+                        .take(need)
+                        .read_to_end(&mut out)
+                        .map_err(|e| corrupt(e, out.len()))?;
+                }
+                out.truncate(total.min(out.len() as u64) as usize);
+                return Ok(out);
+            }
+            // The parse reports what is wrong.
+            Err(_) if ended || want >= MAX_HEADER_BYTES => return Ok(out),
+            Err(_) => want = (want * 4).min(MAX_HEADER_BYTES),
+        }
+    }
 }
 
 /// A big-endian cursor.
@@ -134,8 +182,17 @@ struct Attr {
     keep: bool,
 }
 
-/// Parses the decompressed file into columns.
-fn parse(b: &[u8]) -> Result<Columns, String> {
+/// What the header says: the point count, the attributes, the bytes per point and where the
+/// points start.
+struct Header {
+    n: u64,
+    attrs: Vec<Attr>,
+    stride: usize,
+    data_start: usize,
+}
+
+/// Parses the header (everything before the points).
+fn header(b: &[u8]) -> Result<Header, String> {
     if b.is_empty() {
         return Err("empty file".into());
     }
@@ -210,7 +267,23 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         });
         words += size;
     }
-    let stride = 4 * words;
+    Ok(Header {
+        n,
+        attrs,
+        stride: 4 * words,
+        data_start: c.pos,
+    })
+}
+
+/// Parses the decompressed file into columns.
+fn parse(b: &[u8]) -> Result<Columns, String> {
+    let Header {
+        n,
+        attrs,
+        stride,
+        data_start,
+    } = header(b)?;
+    let mut c = Cur { b, pos: data_start };
     let left = (b.len() - c.pos) as u64;
     let need = n.saturating_mul(stride as u64);
     if need > left {
@@ -246,4 +319,38 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         cols.push(&a.name, a.size, a.ty.name(), std::mem::take(&mut v));
     }
     Ok(cols)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn bomb(declared: i32, padding: usize) -> (Vec<u8>, usize) {
+        let mut b = b"BgeoV".to_vec();
+        for v in [5, declared, 0, 0, 0, 0, 0, 0, 0] {
+            b.extend(v.to_be_bytes());
+        }
+        let header = b.len();
+        b.resize(header + 16 * declared.max(0) as usize, 1);
+        let implied = b.len();
+        b.resize(b.len() + padding, 0);
+        let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        e.write_all(&b).unwrap();
+        (e.finish().unwrap(), implied)
+    }
+
+    #[test]
+    fn inflates_exactly_what_the_header_implies() {
+        // 5 points and 32 MiB of padding: only the header and the 5 points are inflated.
+        let (gz, implied) = bomb(5, 32 << 20);
+        assert_eq!(inflate(&gz).unwrap().len(), implied);
+        // Points beyond the first inflated chunk are inflated too, and nothing after them.
+        let (gz, implied) = bomb(20_000, 1 << 20);
+        assert_eq!(inflate(&gz).unwrap().len(), implied);
+        // Truncated data: what there is, for the parser to report.
+        let (gz, _) = bomb(5, 0);
+        let cut = inflate(&gz[..gz.len() - 30]);
+        assert!(cut.is_err() || cut.unwrap().len() < 45 + 80);
+    }
 }

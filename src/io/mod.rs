@@ -33,6 +33,7 @@ pub mod bgeo;
 mod columns;
 pub mod csv;
 pub mod frame_folder;
+pub mod input;
 mod melp;
 pub mod melp_folder;
 mod num;
@@ -207,54 +208,39 @@ fn sniff(head: &[u8]) -> Option<CloudFormat> {
     }
 }
 
-/// Decides a file's format: a directory holding `x_bin` is a frame folder; a file is decided
-/// by its first bytes (for gzip, the decompressed first bytes), else by its extension
-/// (case-insensitive: ply, vtk, vtu, vtp, bgeo, bgeo.gz, csv, tsv, xyz, txt).
-///
-/// Cost: opens the file and reads (and, for gzip, inflates) at most a few hundred bytes.
-///
-/// # Errors
-/// [`Error::Io`] if the path cannot be opened; [`Error::Format`] if neither the content nor
-/// the extension is a known format, or a directory has no `x_bin`.
-pub fn detect_format(path: &Path) -> Result<CloudFormat> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+/// The format a path's extension names (case-insensitive: ply, vtk, vtu, vtp, bgeo, bgeo.gz,
+/// csv, tsv, xyz, txt), if any.
+fn by_extension(path: &Path) -> Option<CloudFormat> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let ext = name.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
+    match ext {
+        "ply" => Some(CloudFormat::Ply),
+        "vtk" => Some(CloudFormat::VtkLegacy),
+        "vtu" | "vtp" => Some(CloudFormat::VtkXml),
+        "bgeo" => Some(CloudFormat::Bgeo),
+        "gz" if name.ends_with(".bgeo.gz") => Some(CloudFormat::Bgeo),
+        "csv" | "tsv" | "xyz" | "txt" => Some(CloudFormat::Csv),
+        _ => None,
+    }
+}
+
+/// The format told by a file's first bytes (inflating the start of gzip data), else by the
+/// extension of `path`.
+fn by_content(head: &[u8], path: &Path) -> Result<CloudFormat> {
     let unknown = |message: String| Error::Format {
         path: path.to_path_buf(),
         format: "particle file",
         message,
     };
-    if meta.is_dir() {
-        return if path.join("x_bin").is_file() || path.join("tracker_points").is_file() {
-            Ok(CloudFormat::FrameFolder)
-        } else if path.join("x.bin").is_file() {
-            Ok(CloudFormat::SnapshotFolder)
-        } else if melp_folder::is_melp_folder(path) {
-            Ok(CloudFormat::MelpFolder)
-        } else {
-            Err(unknown(
-                "a directory that is no simulator frame folder (expected x_bin or tracker_points \
-                 of the thin-film SPH code, x.bin of its snapshots, or MELP's l_tracker_points_0)"
-                    .to_string(),
-            ))
-        };
-    }
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("pvd"))
-    {
-        return Ok(CloudFormat::Pvd);
-    }
-    let mut head = Vec::with_capacity(16);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(16).read_to_end(&mut head))
-        .map_err(|e| Error::io(path, e))?;
-    if let Some(f) = sniff(&head) {
+    if let Some(f) = sniff(head) {
         return Ok(f);
     }
     if head.starts_with(&[0x1f, 0x8b]) {
         let mut inner = Vec::with_capacity(16);
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let _ = flate2::read::GzDecoder::new(file)
+        let _ = flate2::read::GzDecoder::new(head)
             .take(16)
             .read_to_end(&mut inner);
         match sniff(&inner) {
@@ -268,29 +254,89 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
             None => {}
         }
     }
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    let ext = name.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
-    match ext {
-        "ply" => Ok(CloudFormat::Ply),
-        "vtk" => Ok(CloudFormat::VtkLegacy),
-        "vtu" | "vtp" => Ok(CloudFormat::VtkXml),
-        "bgeo" => Ok(CloudFormat::Bgeo),
-        "gz" if name.ends_with(".bgeo.gz") => Ok(CloudFormat::Bgeo),
-        "csv" | "tsv" | "xyz" | "txt" => Ok(CloudFormat::Csv),
-        _ => Err(unknown(if head.is_empty() {
+    by_extension(path).ok_or_else(|| {
+        unknown(if head.is_empty() {
             "empty file".to_string()
         } else {
             "unrecognised format (supported: PLY, VTK legacy, VTK XML .vtu/.vtp, BGEO, \
              CSV/XYZ, frame folders)"
                 .to_string()
-        })),
+        })
+    })
+}
+
+/// Decides a file's format: a directory holding `x_bin` is a frame folder; a file is decided
+/// by its first bytes (for gzip, the decompressed first bytes), else by its extension
+/// (case-insensitive: ply, vtk, vtu, vtp, bgeo, bgeo.gz, csv, tsv, xyz, txt).
+///
+/// A pipe or standard input (`-`) is not opened (its bytes can be read only once; [`read_cloud`]
+/// tells its format from them): only its extension can decide here.
+///
+/// Cost: opens the file and reads (and, for gzip, inflates) at most a few hundred bytes.
+///
+/// # Errors
+/// [`Error::Io`] if the path cannot be opened; [`Error::Format`] if neither the content nor
+/// the extension is a known format, a directory has no `x_bin`, the path is a device or a
+/// socket, or a pipe's name has no known extension.
+pub fn detect_format(path: &Path) -> Result<CloudFormat> {
+    let unknown = |message: String| Error::Format {
+        path: path.to_path_buf(),
+        format: "particle file",
+        message,
+    };
+    match input::kind(path)? {
+        input::Kind::Dir => {
+            return if path.join("x_bin").is_file() || path.join("tracker_points").is_file() {
+                Ok(CloudFormat::FrameFolder)
+            } else if path.join("x.bin").is_file() {
+                Ok(CloudFormat::SnapshotFolder)
+            } else if melp_folder::is_melp_folder(path) {
+                Ok(CloudFormat::MelpFolder)
+            } else {
+                Err(unknown(
+                    "a directory that is no simulator frame folder (expected x_bin or \
+                     tracker_points of the thin-film SPH code, x.bin of its snapshots, or \
+                     MELP's l_tracker_points_0)"
+                        .to_string(),
+                ))
+            };
+        }
+        input::Kind::Stdin | input::Kind::Pipe => {
+            return by_extension(path).ok_or_else(|| {
+                unknown("a pipe's format is told from its bytes when it is read".to_string())
+            });
+        }
+        input::Kind::File(_) => {}
+    }
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("pvd"))
+    {
+        return Ok(CloudFormat::Pvd);
+    }
+    // 4 KiB: enough to inflate the first bytes of gzip data.
+    let mut head = Vec::with_capacity(4096);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .map_err(|e| Error::io(path, e))?;
+    by_content(&head, path)
+}
+
+/// A stream's first bytes are acceptable if they (or the path's extension) name a format.
+fn stream_head_ok(path: &Path) -> impl Fn(&[u8]) -> std::result::Result<(), String> + '_ {
+    move |head: &[u8]| {
+        by_content(head, path).map(|_| ()).map_err(|e| match e {
+            Error::Format { message, .. } if message.starts_with("gzip-compressed") => message,
+            _ => "its first bytes are not PLY, VTK, VTK XML or BGEO (a pipe's format is told \
+                  from its content)"
+                .to_string(),
+        })
     }
 }
 
 /// Reads a particle file (or frame folder) of any supported format (see [`detect_format`]).
+/// Standard input (`-`) and pipes are read once into memory (at most
+/// [`input::STREAM_LIMIT_BYTES`]) and their format is told from their first bytes.
 ///
 /// Cost: about the cost of reading the file's bytes (plus inflating them if compressed).
 ///
@@ -298,6 +344,9 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
 /// As [`detect_format`] and the format's reader: every error names the file, the format and
 /// the problem.
 pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    if input::is_stream(path) {
+        return read_cloud_described(path, opts).map(|(c, _)| c);
+    }
     match detect_format(path)? {
         CloudFormat::Ply => ply::read(path, opts),
         CloudFormat::VtkLegacy => vtk::read(path, opts),
@@ -315,6 +364,27 @@ pub fn read_cloud_described(
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
+    type Whole = fn(&[u8], &Path, &ReadOptions) -> Result<(PointCloud, Vec<StoredAttribute>)>;
+    let of = |f: CloudFormat| -> Option<Whole> {
+        match f {
+            CloudFormat::Ply => Some(ply::read_bytes_described),
+            CloudFormat::FrameFolder
+            | CloudFormat::SnapshotFolder
+            | CloudFormat::MelpFolder
+            | CloudFormat::Pvd => None,
+            CloudFormat::VtkLegacy => Some(vtk::read_bytes_described),
+            CloudFormat::VtkXml => Some(vtu::read_bytes_described),
+            CloudFormat::Bgeo => Some(bgeo::read_bytes_described),
+            CloudFormat::Csv => Some(csv::read_bytes_described),
+        }
+    };
+    opts.check()?;
+    if input::is_stream(path) {
+        let bytes = input::read_all(path, &stream_head_ok(path))?;
+        let format = by_content(&bytes, path)?;
+        let whole = of(format).ok_or_else(|| format_error(path, "input", "not a folder"))?;
+        return whole(&bytes, path, opts);
+    }
     // Formats read whole from memory share one path: the file's bytes, then the reader.
     let whole = match detect_format(path)? {
         CloudFormat::Ply => return ply::read_described(path, opts),
@@ -322,12 +392,8 @@ pub fn read_cloud_described(
         CloudFormat::SnapshotFolder | CloudFormat::MelpFolder | CloudFormat::Pvd => {
             return Ok(parts::film_of(read_parts(path, opts)?));
         }
-        CloudFormat::VtkLegacy => vtk::read_bytes_described,
-        CloudFormat::VtkXml => vtu::read_bytes_described,
-        CloudFormat::Bgeo => bgeo::read_bytes_described,
-        CloudFormat::Csv => csv::read_bytes_described,
+        f => of(f).expect("a file format"),
     };
-    opts.check()?;
     whole(&read_file(path)?, path, opts)
 }
 
@@ -402,14 +468,10 @@ pub fn show_name(name: &str) -> String {
     columns::show(name)
 }
 
-/// Reads a whole regular file, refusing directories.
+/// Reads a whole regular file (or pipe), refusing directories, devices and what does not fit in
+/// memory (see [`input::read_all`]).
 fn read_file(path: &Path) -> Result<Vec<u8>> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.is_dir() {
-        let e = std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a directory");
-        return Err(Error::io(path, e));
-    }
-    std::fs::read(path).map_err(|e| Error::io(path, e))
+    input::read_all(path, &|_| Ok(()))
 }
 
 /// Shorthand for an [`Error::Format`].

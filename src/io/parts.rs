@@ -63,7 +63,13 @@ impl CloudPart {
 /// # Errors
 /// As [`super::read_cloud`].
 pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
-    match detect_format(path)? {
+    // A pipe or standard input is read once, by the single-set readers.
+    let format = if super::input::is_stream(path) {
+        CloudFormat::Ply
+    } else {
+        detect_format(path)?
+    };
+    match format {
         CloudFormat::FrameFolder => super::frame_folder::read_parts(path, opts),
         CloudFormat::SnapshotFolder => super::snapshot::read_parts(path, opts),
         CloudFormat::MelpFolder => super::melp_folder::read_parts(path, opts),

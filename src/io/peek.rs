@@ -27,7 +27,8 @@ pub struct CountHint {
 }
 
 /// Peeks at `path` (file or frame folder): its format and particle count, reading at most
-/// 64 KiB (for gzip BGEO, inflating at most 64 bytes).
+/// 64 KiB (for gzip BGEO, inflating at most 64 bytes). A pipe or standard input is not read:
+/// its hint says 0 particles, not exact, format by extension (else PLY).
 ///
 /// Header counts are capped at what the file size could hold (3 bytes a particle; gzip: the
 /// deflate ratio limit), so an absurd header does not produce an absurd estimate. Without a
@@ -37,6 +38,17 @@ pub struct CountHint {
 /// # Errors
 /// As [`detect_format`]; [`Error::Io`] if the file cannot be read.
 pub fn peek_count(path: &Path) -> Result<CountHint> {
+    if super::input::is_stream(path) {
+        // A pipe can be read only once: nothing is known before the reader reads it (its size
+        // is bounded by `input::STREAM_LIMIT_BYTES`).
+        return Ok(CountHint {
+            format: super::by_extension(path).unwrap_or(CloudFormat::Ply),
+            particles: 0,
+            exact: false,
+            file_bytes: 0,
+            reads_whole_file: true,
+        });
+    }
     let format = detect_format(path)?;
     match format {
         CloudFormat::FrameFolder if path.join("x_bin").is_file() => {

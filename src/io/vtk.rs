@@ -73,6 +73,9 @@ struct Cur<'a> {
     b: &'a [u8],
     pos: usize,
     binary: bool,
+    /// The last position [`Cur::at`] numbered and its 0-based line, so numbering the lines in
+    /// file order costs O(file size) in all (not O(position) per call).
+    line_cache: std::cell::Cell<(usize, usize)>,
 }
 
 impl<'a> Cur<'a> {
@@ -81,10 +84,13 @@ impl<'a> Cur<'a> {
         if self.binary {
             format!("byte offset {at}")
         } else {
-            let line = self.b[..at.min(self.b.len())]
-                .iter()
-                .filter(|&&c| c == b'\n')
-                .count();
+            let at = at.min(self.b.len());
+            let (from, mut line) = match self.line_cache.get() {
+                (p, l) if p <= at => (p, l),
+                _ => (0, 0),
+            };
+            line += self.b[from..at].iter().filter(|&&c| c == b'\n').count();
+            self.line_cache.set((at, line));
             format!("line {}", line + 1)
         }
     }
@@ -218,6 +224,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
         b,
         pos: 0,
         binary: false,
+        line_cache: std::cell::Cell::new((0, 0)),
     };
     match c.raw_line() {
         Some((_, l)) if l.starts_with("# vtk DataFile Version") => {}

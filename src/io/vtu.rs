@@ -275,6 +275,7 @@ fn parse(b: &[u8]) -> Result<Columns, String> {
     if pieces.is_empty() {
         return Err("no Piece element".into());
     }
+    check_total_work(&pieces, &set)?;
     let mut cols = Columns::default();
     let mut data: Vec<(String, u64, Num, Vec<f32>)> = Vec::new();
     for (pi, p) in pieces.iter().enumerate() {
@@ -400,6 +401,51 @@ fn text_until_end(sc: &mut Scanner<'_>) -> Result<Vec<Range<usize>>, String> {
             (false, true) => {}
         }
     }
+}
+
+/// Bounds the whole file's work before decoding anything: no two appended arrays may start at
+/// the same offset (many `Piece`s pointing at one block would decode it again and again), the
+/// appended arrays together cannot declare more bytes than the appended data holds (times the
+/// best zlib ratio when compressed). (Each array's decoded values are checked against the
+/// memory allowance by [`block`] once its sizes are known to fit the file.)
+fn check_total_work(pieces: &[Piece], set: &Settings<'_>) -> Result<(), String> {
+    let arrays = pieces
+        .iter()
+        .flat_map(|p| p.points.iter().chain(&p.data).map(move |a| (p.n, a)));
+    let mut offsets = Vec::new();
+    let mut appended_bytes = 0u64;
+    for (n, a) in arrays {
+        let count = n.saturating_mul(a.k);
+        if a.enc == Encoding::Appended {
+            offsets.push((a.offset, show(&a.name)));
+            appended_bytes =
+                appended_bytes.saturating_add(count.saturating_mul(a.ty.size() as u64));
+        }
+    }
+    offsets.sort();
+    if let Some(w) = offsets.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(format!(
+            "arrays '{}' and '{}' both point at appended offset {} (each array needs its own data)",
+            w[0].1, w[1].1, w[0].0
+        ));
+    }
+    if let Some((data, base64)) = set.appended {
+        let mut room = data.len() as u64;
+        if base64 {
+            room = room / 4 * 3;
+        }
+        if set.zlib {
+            room = room.saturating_mul(MAX_ZLIB_RATIO).saturating_add(1024);
+        }
+        if appended_bytes > room {
+            return Err(format!(
+                "the appended arrays declare {appended_bytes} bytes, more than the {} bytes of \
+                 appended data can hold",
+                data.len()
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Decodes one array of `n` tuples to f32.
@@ -562,6 +608,11 @@ fn block<'a>(
             "{csum} compressed bytes cannot inflate to the {total} bytes expected"
         ));
     }
+    // The inflated bytes and their f32 values.
+    let values = total / a.ty.size() as u64;
+    crate::budget::check(total.saturating_add(values.saturating_mul(4)), || {
+        format!("inflating {values} values")
+    })?;
     let mut raw: Vec<u8> = Vec::with_capacity(total as usize);
     for (i, &c) in sizes.iter().enumerate() {
         let want = if i + 1 == sizes.len() && last != 0 {

@@ -106,48 +106,7 @@ impl fmt::Display for MemoryEstimate {
     }
 }
 
-/// Bytes as `1.5 GiB`, `12.0 MiB`, `800 B`.
-pub fn human_bytes(b: u64) -> String {
-    const UNITS: [&str; 5] = ["KiB", "MiB", "GiB", "TiB", "PiB"];
-    if b < 1024 {
-        return format!("{b} B");
-    }
-    let mut v = b as f64 / 1024.0;
-    let mut unit = 0;
-    while v >= 1024.0 && unit + 1 < UNITS.len() {
-        v /= 1024.0;
-        unit += 1;
-    }
-    format!("{v:.1} {}", UNITS[unit])
-}
-
-/// Parses a memory size: a number with an optional binary suffix K, M, G or T (also KB, KiB,
-/// ...; case-insensitive), e.g. `8G`, `512M`, `1.5G`, `1000000` (bytes).
-///
-/// # Errors
-/// A message if the text is not a positive size.
-pub fn parse_size(s: &str) -> std::result::Result<u64, String> {
-    let t = s.trim();
-    let bad = || format!("memory size '{s}' must be a number with K, M, G or T, e.g. 8G or 512M");
-    let split = t
-        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-        .unwrap_or(t.len());
-    let (num, unit) = t.split_at(split);
-    let value: f64 = num.parse().map_err(|_| bad())?;
-    let shift = match unit.trim().to_ascii_lowercase().as_str() {
-        "" | "b" => 0,
-        "k" | "kb" | "kib" => 10,
-        "m" | "mb" | "mib" => 20,
-        "g" | "gb" | "gib" => 30,
-        "t" | "tb" | "tib" => 40,
-        _ => return Err(bad()),
-    };
-    let bytes = value * (1u64 << shift) as f64;
-    if !(bytes.is_finite() && bytes >= 1.0 && bytes < u64::MAX as f64) {
-        return Err(bad());
-    }
-    Ok(bytes as u64)
-}
+pub use crate::budget::{human_bytes, parse_size};
 
 /// Estimates the peak memory of rendering `desc` (paths relative to `base`) before loading
 /// anything: the particle count comes from the sample's settings or the file's header
@@ -180,6 +139,12 @@ pub fn estimate_scene(desc: &SceneDesc, base: &Path, exr: bool) -> Result<Memory
                 .input
                 .particles
                 .unwrap_or(crate::samples::BubbleParams::default().particles);
+            // A count the sample refuses is the pipeline's to report (with its line).
+            let p = crate::samples::SampleParams {
+                particles: n,
+                ..Default::default()
+            };
+            super::check_sample_params(&p, None, "input.")?;
             Ok(MemoryEstimate::new(n as u64, width, height, exr, 0))
         }
         None => Err(Error::invalid(

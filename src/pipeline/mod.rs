@@ -115,6 +115,12 @@ pub fn check_sample_params(p: &SampleParams, sparse: Option<f64>, prefix: &str) 
             p.particles
         )));
     }
+    // The generated cloud's arrays (positions, normals, thickness, radius) and the generator's
+    // scratch: ~64 bytes a particle.
+    crate::budget::check(p.particles as u64 * 64, || {
+        format!("{prefix}particles = {}", p.particles)
+    })
+    .map_err(Error::invalid)?;
     if !p.time.is_finite() {
         return Err(Error::invalid(format!("{prefix}time must be finite")));
     }
@@ -282,10 +288,31 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             settings.width, settings.height
         )));
     }
+    // The image buffers are allocated after the cloud is loaded: refuse a size that cannot fit
+    // before anything is read.
+    let pixels = settings.width as u64 * settings.height as u64;
+    crate::budget::check(
+        pixels * (memory::RENDER_BYTES_PER_PIXEL + memory::PNG_BYTES_PER_PIXEL),
+        || format!("a {}x{} render", settings.width, settings.height),
+    )
+    .map_err(Error::invalid)?;
     if !(0.0..=1.0).contains(&settings.roulette) {
         return Err(Error::invalid(format!(
             "render.roulette must be between 0 (off) and 1, got {}",
             settings.roulette
+        )));
+    }
+    if !(0.0..=1.0).contains(&settings.min_weight) {
+        return Err(Error::invalid(format!(
+            "render.min_weight must be between 0 and 1, got {}",
+            settings.min_weight
+        )));
+    }
+    if let Some(ev) = desc.output.exposure
+        && !(ev.is_finite() && ev.abs() <= 64.0)
+    {
+        return Err(Error::invalid(format!(
+            "output.exposure must be within -64..64 EV, got {ev}"
         )));
     }
     if settings.spp == 0 {
@@ -365,6 +392,13 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
             notes.push(repair(&mut cloud).to_string());
         } else {
             validate(&cloud).map_err(name)?;
+        }
+        // Copies at one position would be a pile of identical disks no tree can split.
+        let coincident = crate::pointcloud::dedupe::drop_coincident(&mut cloud);
+        if coincident > 0 {
+            notes.push(format!(
+                "{label}: {coincident} particles at the same position as an earlier one: drawn once"
+            ));
         }
         if let Some(t) = cloud
             .thickness_nm

@@ -20,26 +20,82 @@ pub const NO_NEIGHBOUR: u32 = u32::MAX;
 type Tree = KdTree<f32, u32, Eytzinger, FlatVec<f32, u32, 3, 32>, 3, 32>;
 
 /// A k-d tree over the finite positions of a cloud, indexed by particle index.
+///
+/// Coincident points (SPH output does contain exact duplicates) enter the tree once: a k-d
+/// tree cannot split equal points, so thousands of copies of one position would make one leaf
+/// that every query scans (quadratic). Copies are grouped instead, and a query expands the
+/// groups it finds into their particles, so the cost stays O(k log n) per query however many
+/// points coincide.
 pub struct PointIndex {
     tree: Tree,
     finite: usize,
+    /// `None` when every finite position is distinct (the tree's items are particle indices);
+    /// else the tree's items are group ids and group `g` holds the particles
+    /// `members[starts[g]..starts[g + 1]]`, in ascending index order.
+    groups: Option<Groups>,
+}
+
+/// Particles sharing one position (see [`PointIndex`]).
+struct Groups {
+    starts: Vec<u32>,
+    members: Vec<u32>,
+}
+
+/// A position's bits with -0.0 folded into +0.0, so equal positions get equal keys.
+fn key(p: Vec3) -> [u32; 3] {
+    [
+        (p.x + 0.0).to_bits(),
+        (p.y + 0.0).to_bits(),
+        (p.z + 0.0).to_bits(),
+    ]
 }
 
 impl PointIndex {
     /// Builds the tree over all finite positions. Cost: O(n log n), single-threaded (kiddo's
-    /// `multi-threaded` feature is off): ≈ 0.2 s for 1M points.
+    /// `multi-threaded` feature is off): ≈ 0.2 s for 1M points, plus a sort when positions
+    /// repeat.
     pub fn build(positions: &[Vec3]) -> Self {
-        let entries: Vec<(u32, [f32; 3])> = positions
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.is_finite())
-            .map(|(i, p)| (i as u32, p.to_array()))
+        let mut order: Vec<u32> = (0..positions.len() as u32)
+            .filter(|&i| positions[i as usize].is_finite())
             .collect();
-        let finite = entries.len();
+        let finite = order.len();
+        order.par_sort_unstable_by_key(|&i| (key(positions[i as usize]), i));
+        let distinct = order
+            .windows(2)
+            .all(|w| key(positions[w[0] as usize]) != key(positions[w[1] as usize]));
         // Construction only fails on index overflow (u32) for mutable-bucket splits; neither
         // applies to an immutable tree built from explicit u32 entries.
+        if distinct {
+            let entries: Vec<(u32, [f32; 3])> = order
+                .iter()
+                .map(|&i| (i, positions[i as usize].to_array()))
+                .collect();
+            let tree = Tree::new_from_entries(&entries).unwrap_or_default();
+            return PointIndex {
+                tree,
+                finite,
+                groups: None,
+            };
+        }
+        let mut starts = Vec::new();
+        let mut entries = Vec::new();
+        for (n, &i) in order.iter().enumerate() {
+            let p = positions[i as usize];
+            if n == 0 || key(positions[order[n - 1] as usize]) != key(p) {
+                entries.push((starts.len() as u32, p.to_array()));
+                starts.push(n as u32);
+            }
+        }
+        starts.push(order.len() as u32);
         let tree = Tree::new_from_entries(&entries).unwrap_or_default();
-        PointIndex { tree, finite }
+        PointIndex {
+            tree,
+            finite,
+            groups: Some(Groups {
+                starts,
+                members: order,
+            }),
+        }
     }
 
     /// Number of finite points in the tree.
@@ -53,12 +109,18 @@ impl PointIndex {
     }
 
     /// Up to `k` nearest particles to `q` other than `exclude`, nearest first, as
-    /// `(index, distance)` with distances in scene units. Cost: O(k log n).
+    /// `(index, distance)` with distances in scene units. Cost: O(k log n), also when many
+    /// points coincide (coincident ones come in ascending index order).
     pub fn nearest_excluding(&self, q: Vec3, k: usize, exclude: u32) -> Vec<(u32, f32)> {
         if self.finite == 0 || k == 0 {
             return Vec::new();
         }
-        let want = (k + 1).min(self.finite);
+        let entries = self
+            .groups
+            .as_ref()
+            .map_or(self.finite, |g| g.starts.len() - 1);
+        // k + 1 entries hold at least k + 1 particles, so k remain after excluding one.
+        let want = (k + 1).min(entries);
         let Some(n) = NonZeroUsize::new(want) else {
             return Vec::new();
         };
@@ -67,12 +129,30 @@ impl PointIndex {
             .query(&q.to_array())
             .nearest_n::<SquaredEuclidean<f32>>(n)
             .execute();
-        found
-            .into_iter()
-            .filter(|r| r.item != exclude)
-            .take(k)
-            .map(|r| (r.item, r.distance.max(0.0).sqrt()))
-            .collect()
+        let dist = |d: f32| d.max(0.0).sqrt();
+        match &self.groups {
+            None => found
+                .into_iter()
+                .filter(|r| r.item != exclude)
+                .take(k)
+                .map(|r| (r.item, dist(r.distance)))
+                .collect(),
+            Some(g) => {
+                let mut out = Vec::with_capacity(k);
+                'groups: for r in found {
+                    let (a, b) = (g.starts[r.item as usize], g.starts[r.item as usize + 1]);
+                    for &j in &g.members[a as usize..b as usize] {
+                        if out.len() == k {
+                            break 'groups;
+                        }
+                        if j != exclude {
+                            out.push((j, dist(r.distance)));
+                        }
+                    }
+                }
+                out
+            }
+        }
     }
 }
 

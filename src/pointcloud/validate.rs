@@ -68,6 +68,16 @@ fn length_problem(name: &str, len: usize, n: usize, out: &mut Vec<Problem>) -> b
     }
 }
 
+/// Largest coordinate magnitude accepted, scene units: 1e15. Beyond it, squared distances in the
+/// framing and ray tests leave the `f32` range (or lose all precision), so such clouds are
+/// refused (rescale the data) rather than rendered as NaN.
+pub const MAX_COORDINATE: f32 = 1e15;
+
+/// True if a finite position lies farther than [`MAX_COORDINATE`] on some axis.
+fn too_far(p: &Vec3) -> bool {
+    p.is_finite() && p.abs().max_element() > MAX_COORDINATE
+}
+
 /// True if a normal cannot be normalised (zero, denormal-tiny or non-finite length).
 fn normal_unusable(n: &Vec3) -> bool {
     n.try_normalize().is_none()
@@ -91,6 +101,14 @@ pub fn problems(cloud: &PointCloud) -> Vec<Problem> {
         |p| !p.is_finite(),
         &mut out,
     );
+    if let Some(p) = cloud.positions.iter().find(|p| too_far(p)) {
+        let what = format!(
+            "coordinates beyond ±{MAX_COORDINATE:e} scene units, e.g. [{:e}, {:e}, {:e}] \
+             (rescale the data)",
+            p.x, p.y, p.z
+        );
+        scan(&cloud.positions, &what, too_far, &mut out);
+    }
     if let Some(normals) = &cloud.normals
         && length_problem("normals", normals.len(), n, &mut out)
     {
@@ -137,7 +155,7 @@ pub fn validate(cloud: &PointCloud) -> Result<()> {
 pub struct RepairReport {
     /// Particles before repair.
     pub before: usize,
-    /// Particles dropped for a non-finite position.
+    /// Particles dropped for a non-finite position (or one beyond [`MAX_COORDINATE`]).
     pub dropped_position: usize,
     /// Particles dropped for a non-finite or negative thickness (and a good position).
     pub dropped_thickness: usize,
@@ -170,7 +188,7 @@ impl std::fmt::Display for RepairReport {
         let mut parts = Vec::new();
         if self.dropped_position > 0 {
             parts.push(format!(
-                "dropped {} with non-finite positions",
+                "dropped {} with non-finite positions (or beyond ±1e15)",
                 self.dropped_position
             ));
         }
@@ -237,7 +255,7 @@ pub fn repair(cloud: &mut PointCloud) -> RepairReport {
 
     let keep: Vec<bool> = (0..n)
         .map(|i| {
-            if !cloud.positions[i].is_finite() {
+            if !cloud.positions[i].is_finite() || too_far(&cloud.positions[i]) {
                 report.dropped_position += 1;
                 return false;
             }
@@ -281,7 +299,7 @@ pub fn repair(cloud: &mut PointCloud) -> RepairReport {
 }
 
 /// Keeps the entries whose `keep` flag is set, in order.
-fn compact<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
+pub(crate) fn compact<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
     let mut w = 0;
     for r in 0..v.len() {
         if keep[r] {

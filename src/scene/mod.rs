@@ -2,6 +2,10 @@
 //! it into a rendered image. Every key is optional except the input; unknown keys are errors.
 //! Paths are relative to the scene file. The keys are documented in `samples/README.md`.
 
+mod check;
+
+pub use check::key_line;
+
 use serde::Deserialize;
 use std::path::PathBuf;
 use toml::Spanned;
@@ -34,6 +38,10 @@ pub struct SceneDesc {
     /// `[[prop]]`: opaque props.
     #[serde(default)]
     pub prop: Vec<PropDesc>,
+    /// The file this description was parsed from (its name and text), so later errors about a
+    /// key can name the file and line ([`SceneDesc::locate`]); `None` when built in code.
+    #[serde(skip)]
+    pub source: Option<(String, String)>,
 }
 
 /// `[[light]]`: one area light. Which keys apply depends on `shape`.
@@ -270,7 +278,10 @@ impl SceneDesc {
     /// Parses TOML text; `name` (the file) is used in error messages, which name the key and
     /// line.
     pub fn from_toml(text: &str, name: &str) -> crate::Result<Self> {
-        let line_of = |start: usize| text[..start.min(text.len())].matches('\n').count() + 1;
+        // Line of a byte offset by binary search over the newlines: O(log n) per key, so a file
+        // with many [[light]]s or [[prop]]s stays linear.
+        let newlines: Vec<usize> = text.match_indices('\n').map(|(i, _)| i).collect();
+        let line_of = |start: usize| newlines.partition_point(|&i| i < start) + 1;
         let mut desc: SceneDesc = toml::from_str(text).map_err(|e| {
             let msg = e.message().to_string();
             let line = e.span().map(|s| line_of(s.start));
@@ -283,6 +294,26 @@ impl SceneDesc {
                 },
             }
         })?;
+        let table: toml::Table =
+            text.parse()
+                .map_err(|e: toml::de::Error| crate::Error::Format {
+                    path: name.into(),
+                    format: "scene TOML",
+                    message: e.message().to_string(),
+                })?;
+        if let Some((key, v)) = check::bad_float(&table) {
+            let keys: Vec<&str> = key.iter().map(String::as_str).collect();
+            let at = key_line(text, &keys).map_or(String::new(), |l| format!("line {l}: "));
+            return Err(crate::Error::Format {
+                path: name.into(),
+                format: "scene TOML",
+                message: format!(
+                    "{at}{} = {v} must be a finite number within the 32-bit float range",
+                    key.join(".")
+                ),
+            });
+        }
+        desc.source = Some((name.to_string(), text.to_string()));
         for l in &mut desc.light {
             l.line = line_of(l.shape.span().start);
         }
@@ -290,6 +321,45 @@ impl SceneDesc {
             p.line = line_of(p.shape.span().start);
         }
         Ok(desc)
+    }
+}
+
+impl SceneDesc {
+    /// Names the scene file (and the line of the key the message starts with, e.g.
+    /// `camera.fov must be ...`) in an [`crate::Error::Invalid`] about this description; other
+    /// errors, and descriptions not parsed from a file, pass through unchanged.
+    pub fn locate(&self, e: crate::Error) -> crate::Error {
+        let (Some((name, text)), crate::Error::Invalid(msg)) = (&self.source, &e) else {
+            return e;
+        };
+        let first = msg
+            .split(|c: char| c.is_whitespace() || c == ':' || c == ',')
+            .next()
+            .unwrap_or("");
+        // A message that starts with a path is about another file (the particles), named already.
+        if first.contains(['/', '\\']) || std::path::Path::new(first).exists() {
+            return e;
+        }
+        const SECTIONS: [&str; 8] = [
+            "input",
+            "film",
+            "camera",
+            "environment",
+            "render",
+            "output",
+            "light",
+            "prop",
+        ];
+        let keys: Vec<&str> = first.split('.').collect();
+        let at = (keys.len() >= 2 && SECTIONS.contains(&keys[0]))
+            .then(|| key_line(text, &keys))
+            .flatten()
+            .map_or(String::new(), |l| format!("line {l}: "));
+        crate::Error::Format {
+            path: name.into(),
+            format: "scene TOML",
+            message: format!("{at}{msg}"),
+        }
     }
 }
 

@@ -57,19 +57,31 @@ pub fn read_described(
 }
 
 /// Opens the file at `path` (refusing directories) and runs `read` on it with the file's length
-/// (a regular file's length bounds its content; pipes report none). Failures become
+/// (a regular file's length bounds its content; a pipe is first read into memory, bounded, by
+/// [`crate::io::input::read_all`]). Failures become
 /// [`Error::Io`] or [`Error::Format`] naming the file.
-fn with_file<T>(path: &Path, read: impl FnOnce(File, Option<u64>) -> Result<T, Fail>) -> Result<T> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.is_dir() {
-        return Err(Error::io(
-            path,
-            io::Error::new(io::ErrorKind::IsADirectory, "is a directory"),
-        ));
-    }
+fn with_file<T>(
+    path: &Path,
+    read: impl FnOnce(Box<dyn Read>, Option<u64>) -> Result<T, Fail>,
+) -> Result<T> {
+    let len = match crate::io::input::kind(path)? {
+        crate::io::input::Kind::File(len) => Some(len),
+        crate::io::input::Kind::Dir => {
+            return Err(Error::io(
+                path,
+                io::Error::new(io::ErrorKind::IsADirectory, "is a directory"),
+            ));
+        }
+        // A pipe is read once, into memory, with a bound.
+        _ => {
+            let bytes = crate::io::input::read_all(path, &|_| Ok(()))?;
+            let len = bytes.len() as u64;
+            return read(Box::new(io::Cursor::new(bytes)), Some(len))
+                .map_err(|f| fail_to_error(path, f));
+        }
+    };
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    let len = meta.is_file().then_some(meta.len());
-    read(file, len).map_err(|f| fail_to_error(path, f))
+    read(Box::new(file), len).map_err(|f| fail_to_error(path, f))
 }
 
 /// The library error for a failure reading `path`.
@@ -94,6 +106,19 @@ pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<Point
     read_from(bytes, Some(bytes.len() as u64), opts)
         .map(|(c, _)| c)
         .map_err(|f| fail_to_error(path, f))
+}
+
+/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
+///
+/// # Errors
+/// As [`read_bytes`].
+pub fn read_bytes_described(
+    bytes: &[u8],
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
+    opts.check()?;
+    read_from(bytes, Some(bytes.len() as u64), opts).map_err(|f| fail_to_error(path, f))
 }
 
 /// Internal failure: an I/O error or a message about the content (the path is added later).
