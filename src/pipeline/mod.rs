@@ -69,6 +69,9 @@ pub struct Prepared {
     pub build_time: Duration,
     /// Notes for the user (what was estimated, defaults applied).
     pub notes: Vec<String>,
+    /// Centre of the geometry's bounds and the farthest reach of a splat from it, scene units:
+    /// what [`camera`] frames.
+    pub framing: (Vec3, f32),
 }
 
 fn parse_enum<T: std::str::FromStr>(v: &Option<String>, default: T, key: &str) -> Result<T>
@@ -167,6 +170,18 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
 /// Builds everything the renderer needs from a scene description. `base` is the folder paths
 /// are relative to; `progress` enables the progress bar.
 pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared> {
+    prepare_with(desc, base, progress, None)
+}
+
+/// [`prepare`], with the particles given in memory (`cloud`, thickness in nm) instead of the
+/// scene's `[input]`, which is then ignored. Everything else (checks, estimation of missing
+/// normals and radii, geometry, camera) is the same. For the Python package.
+pub fn prepare_with(
+    desc: &SceneDesc,
+    base: &Path,
+    progress: bool,
+    cloud: Option<PointCloud>,
+) -> Result<Prepared> {
     let mut notes = Vec::new();
     let ior = desc.film.ior.unwrap_or(1.33);
     check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
@@ -245,7 +260,10 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     }
 
     let t0 = Instant::now();
-    let mut cloud = load_cloud(desc, base)?;
+    let mut cloud = match cloud {
+        Some(c) => c,
+        None => load_cloud(desc, base)?,
+    };
     let load_time = t0.elapsed();
     let name_file = |e: Error| match &desc.input.cloud {
         Some(path) => Error::invalid(format!("{}: {e}", base.join(path).display())),
@@ -382,6 +400,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         estimate_time,
         build_time,
         notes,
+        framing: (centre, reach),
     })
 }
 
@@ -424,7 +443,10 @@ fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
     }
 }
 
-fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Camera> {
+/// The camera of `[camera]`: explicit (`position`, `look_at`) or framing a scene of `reach`
+/// scene units around `centre` (see [`Prepared::framing`]) for an image of `aspect` = width /
+/// height.
+pub fn camera(desc: &SceneDesc, centre: Vec3, reach: f32, aspect: f32) -> Result<Camera> {
     let c = &desc.camera;
     let fov = c.fov.unwrap_or(40.0);
     if !(1.0..=170.0).contains(&fov) {
@@ -551,6 +573,17 @@ pub fn render(p: &Prepared) -> Result<RenderOutput> {
 /// Writes `out` to `path`: PNG (exposure + tone curve + sRGB) or EXR (linear RGBA plus depth,
 /// normal, thickness and hit-count layers), by extension. Written atomically.
 pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> {
+    write_output(out, &p.grade, p.exposure, p.tonemap, path)
+}
+
+/// [`write_image`] with the grading, exposure (EV) and tone curve given directly.
+pub fn write_output(
+    out: &RenderOutput,
+    grade: &Grade,
+    exposure: f32,
+    tonemap: ToneMap,
+    path: &Path,
+) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -559,7 +592,7 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
         Some("png") => {
             let data = out.rgb.iter().map(|c| c.to_array()).collect();
             let img = RgbImage::from_data(out.width, out.height, data)?;
-            save_png(path, &p.grade.apply(&img), p.exposure, p.tonemap)
+            save_png(path, &grade.apply(&img), exposure, tonemap)
         }
         Some("exr") => {
             let rgba = out
