@@ -8,10 +8,11 @@ use filmsplat::pipeline::{Prepared, camera, prepare_with};
 use filmsplat::pointcloud::PointCloud;
 use filmsplat::render::{View, render, render_view};
 use filmsplat::scene::SceneDesc;
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, mpsc};
+use std::sync::{Arc, Mutex, TryLockError, mpsc};
 use std::time::Duration;
 
 /// How often a running render looks at Python: Ctrl-C and the progress callback.
@@ -76,6 +77,10 @@ pub struct NativeScene {
     /// Seconds spent loading, estimating and building.
     #[pyo3(get)]
     build_seconds: (f64, f64, f64),
+    /// Image size of the scene description, (width, height) pixels. Kept outside the mutex:
+    /// waiting for it with the GIL held would deadlock against a render's polling.
+    #[pyo3(get)]
+    size: (usize, usize),
 }
 
 #[pymethods]
@@ -108,16 +113,10 @@ impl NativeScene {
                 p.estimate_time.as_secs_f64(),
                 p.build_time.as_secs_f64(),
             ),
+            size: (p.settings.width, p.settings.height),
             prepared: Mutex::new(p),
             desc,
         })
-    }
-
-    /// Image size of the scene description, (width, height) pixels.
-    #[getter]
-    fn size(&self) -> (usize, usize) {
-        let p = self.prepared.lock().expect("not poisoned");
-        (p.settings.width, p.settings.height)
     }
 
     /// Renders. `camera_toml`: a `[camera]` table replacing the scene's; `None` arguments
@@ -142,10 +141,17 @@ impl NativeScene {
         let view: Option<View> = view
             .map(|v| v.parse().map_err(|e| invalid(format!("view: {e}"))))
             .transpose()?;
-        let mut p = self
-            .prepared
-            .try_lock()
-            .map_err(|_| invalid("Scene.render: this scene is rendering in another thread"))?;
+        // Never wait for the lock with the GIL held (the render holding it needs the GIL to
+        // poll). A panicked render leaves the scene intact (only the camera is written).
+        let mut p = match self.prepared.try_lock() {
+            Ok(p) => p,
+            Err(TryLockError::Poisoned(p)) => p.into_inner(),
+            Err(TryLockError::WouldBlock) => {
+                return Err(PyRuntimeError::new_err(
+                    "Scene.render: this scene is rendering in another thread",
+                ));
+            }
+        };
         let mut settings = p.settings.clone();
         if let Some((w, h)) = size {
             if w == 0 || h == 0 || w > 32_768 || h > 32_768 {

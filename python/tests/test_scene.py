@@ -177,3 +177,16 @@ def test_bad_renders_and_bad_clouds_raise(shell_scene):
         img.save("picture.jpg")
     with pytest.raises(OSError):
         img.save("/nonexistent-folder/a.png")
+
+
+def test_a_scene_renders_one_image_at_a_time_and_answers_while_rendering(shell_cloud):
+    scene = filmsplat.Scene(shell_cloud, width=640, height=480, spp=64, preset="final")
+    sizes = []
+
+    def reenter(done, total):
+        sizes.append(scene.size)  # no deadlock: the size is not behind the render's lock
+        scene.render(size=(8, 6), spp=1)
+
+    with pytest.raises(RuntimeError, match="rendering in another thread"):
+        scene.render(progress=reenter)
+    assert sizes == [(640, 480)]
