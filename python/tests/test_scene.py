@@ -190,3 +190,26 @@ def test_a_scene_renders_one_image_at_a_time_and_answers_while_rendering(shell_c
     with pytest.raises(RuntimeError, match="rendering in another thread"):
         scene.render(progress=reenter)
     assert sizes == [(640, 480)]
+
+
+def test_rendering_releases_the_gil(shell_cloud):
+    # A Python thread counts while the render runs: between two progress calls (0.1 s of
+    # rendering) it advances only if the render does not hold the GIL.
+    import threading
+
+    scene = filmsplat.Scene(shell_cloud, width=320, height=240, spp=8)
+    count, stop, seen = [0], threading.Event(), []
+
+    def counter():
+        while not stop.is_set():
+            count[0] += 1
+
+    t = threading.Thread(target=counter)
+    t.start()
+    try:
+        scene.render(progress=lambda d, total: seen.append(count[0]))
+    finally:
+        stop.set()
+        t.join()
+    assert len(seen) >= 2
+    assert seen[-1] - seen[0] > 1000
