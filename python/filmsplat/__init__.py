@@ -244,7 +244,12 @@ class Scene:
         elif isinstance(environment, str) and environment in ("studio", "uniform"):
             env = {"kind": environment}
         elif isinstance(environment, (str, os.PathLike)):
-            env = {"kind": "map", "map": os.path.abspath(os.fspath(environment))}
+            path = os.fspath(environment)
+            if not path.lower().endswith(".exr"):
+                raise ValueError(
+                    f"environment: '{path}' is not studio, uniform or an .exr lat-long map"
+                )
+            env = {"kind": "map", "map": os.path.abspath(path)}
         else:
             raise ValueError("environment: give None, 'studio', 'uniform', an EXR path or a dict")
         text = "".join(_toml_table(f"[{s}]", t) for s, t in tables.items())

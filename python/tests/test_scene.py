@@ -150,6 +150,7 @@ def test_scene_from_file(tmp_path):
         ({"width": 0}, ValueError, "image size must be between"),
         ({"environment": "nowhere.exr"}, FileNotFoundError, "nowhere.exr"),
         ({"environment": {"kind": "sky"}}, ValueError, "environment.kind: unknown 'sky'"),
+        ({"environment": "sky"}, ValueError, "environment: 'sky' is not studio, uniform or an .exr"),
         ({"lights": [{"shape": "point", "position": [0, 1, 0]}]}, ValueError, "light"),
         ({"fov": "wide"}, ValueError, r"Scene: camera\.fov = \"wide\": invalid type: string"),
     ],
