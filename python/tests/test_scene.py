@@ -194,9 +194,12 @@ def test_a_scene_renders_one_image_at_a_time_and_answers_while_rendering(shell_c
 
 
 def test_rendering_releases_the_gil(shell_cloud):
-    # A Python thread counts while the render runs: between two progress calls (0.1 s of
-    # rendering) it advances only if the render does not hold the GIL.
+    # A Python thread counts while the render runs, sleeping 1 ms a step (a voluntary release
+    # of the GIL). Forced GIL switches are switched off, so between two progress calls (0.1 s
+    # of rendering) it can advance only if the render does not hold the GIL.
+    import sys
     import threading
+    import time
 
     scene = filmsplat.Scene(shell_cloud, width=320, height=240, spp=8)
     count, stop, seen = [0], threading.Event(), []
@@ -204,7 +207,10 @@ def test_rendering_releases_the_gil(shell_cloud):
     def counter():
         while not stop.is_set():
             count[0] += 1
+            time.sleep(0.001)
 
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1000)
     t = threading.Thread(target=counter)
     t.start()
     try:
@@ -212,5 +218,6 @@ def test_rendering_releases_the_gil(shell_cloud):
     finally:
         stop.set()
         t.join()
+        sys.setswitchinterval(interval)
     assert len(seen) >= 2
-    assert seen[-1] - seen[0] > 1000
+    assert seen[-1] - seen[0] > 5
