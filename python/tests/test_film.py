@@ -80,3 +80,17 @@ def test_bad_ior_and_shapes_are_value_errors():
         filmsplat.film([1, 2], [1, 2, 3], 500)
     with pytest.raises(ValueError, match="film: angle"):
         filmsplat.film_rgb(100, -1)
+
+
+def test_film_and_film_rgb_print_the_same_numbers_as_the_cli():
+    rows = filmsplat.cli(
+        "film", "--thickness", "0,250,1000", "--angle", "0,45,90", "--wavelengths", "400,550,700", "--ior", "1.4"
+    ).splitlines()
+    assert rows[0] == "thickness_nm,angle_deg,wavelength_nm,R,T,Rs,Rp"
+    cli = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
+    got = filmsplat.film(cli[:, 0], cli[:, 1], cli[:, 2], ior=1.4)
+    for k, col in (("R", 3), ("T", 4), ("Rs", 5), ("Rp", 6)):
+        np.testing.assert_array_equal(got[k], cli[:, col], err_msg=k)
+    rows = filmsplat.cli("film", "--rgb", "--thickness", "0:600:150", "--angle", "0,60").splitlines()
+    cli = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
+    np.testing.assert_array_equal(filmsplat.film_rgb(cli[:, 0], cli[:, 1]), cli[:, 2:])
