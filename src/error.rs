@@ -32,6 +32,9 @@ pub enum Error {
     /// A fault inside filmsplat (a bug or an unexpected condition).
     #[error("internal error: {0}")]
     Internal(String),
+    /// The caller asked the work to stop (see `RenderSettings::cancel`).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl Error {

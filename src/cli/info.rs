@@ -1,7 +1,7 @@
 //! `filmsplat info`: what a particle file holds and what the renderer would make of it.
 
 use crate::Result;
-use crate::io::{AttributeRole, StoredAttribute, peek_count, read_cloud_described};
+use crate::io::{AttributeRole, CloudPart, PartKind, StoredAttribute, peek_count, read_parts};
 use crate::pipeline::memory::{MemoryEstimate, human_bytes};
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::estimate::estimate_radii;
@@ -22,66 +22,103 @@ pub struct InfoArgs {
     size: Option<(usize, usize)>,
 }
 
-/// Runs `filmsplat info`.
+/// Runs `filmsplat info`: every particle set of the input (a simulator frame: its film and
+/// droplets; a foam: each bubble), each with its stored attributes and what the renderer would
+/// do with it.
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     let opts = a.attributes.read_options()?;
     let hint = peek_count(&a.input)?;
-    let (cloud, stored) = read_cloud_described(&a.input, &opts)?;
-    let stats = compute_stats(&cloud);
+    let parts = read_parts(&a.input, &opts)?;
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));
     writeln!(out, "{}", a.input.display()).map_err(io)?;
-    writeln!(out, "{stats}").map_err(io)?;
-    write_stored(out, &cloud, &stored).map_err(io)?;
-    // What the renderer would estimate.
-    let defaults = EstimateOptions::default();
-    writeln!(out, "renderer would:").map_err(io)?;
-    if cloud.normals.is_none() {
-        writeln!(
-            out,
-            "  estimate normals by PCA over {} nearest neighbours",
-            defaults.k_normals
-        )
-        .map_err(io)?;
+    let many = parts.len() > 1;
+    for (k, part) in parts.iter().enumerate() {
+        if many {
+            writeln!(
+                out,
+                "\n== part {} of {}: {}, {} particles",
+                k + 1,
+                parts.len(),
+                part.label,
+                part.cloud.len()
+            )
+            .map_err(io)?;
+        }
+        describe(out, part).map_err(io)?;
     }
-    if cloud.radius.is_none() && !cloud.is_empty() {
-        let mut r = estimate_radii(&cloud.positions, defaults.k_radius, defaults.radius_scale);
-        let mid = r.len() / 2;
-        let median = *r.select_nth_unstable_by(mid, f32::total_cmp).1;
-        writeln!(
-            out,
-            "  estimate splat radii from spacing: median {median:.6} (scene units)"
-        )
-        .map_err(io)?;
-    }
-    if cloud.thickness_nm.is_none() {
-        writeln!(
-            out,
-            "  use a constant thickness of {} nm (set --default-thickness)",
-            defaults.default_thickness_nm
-        )
-        .map_err(io)?;
-    }
-    if cloud.normals.is_some() && cloud.radius.is_some() && cloud.thickness_nm.is_some() {
-        writeln!(
-            out,
-            "  use the file's normals, radii and thickness as they are"
-        )
-        .map_err(io)?;
-    }
+    let total: usize = parts.iter().map(|p| p.cloud.len()).sum();
     let (w, h) = a.size.unwrap_or((960, 540));
     let file = if hint.reads_whole_file {
         hint.file_bytes
     } else {
         0
     };
-    let estimate = MemoryEstimate::new(cloud.len() as u64, w, h, false, file);
-    let exr = MemoryEstimate::new(cloud.len() as u64, w, h, true, file);
+    let estimate = MemoryEstimate::new(total as u64, w, h, false, file);
+    let exr = MemoryEstimate::new(total as u64, w, h, true, file);
     writeln!(
         out,
         "estimated peak memory of a {w}x{h} render: {estimate}; {} with an EXR output",
         human_bytes(exr.total())
     )
     .map_err(io)?;
+    Ok(())
+}
+
+/// One part: its statistics, stored attributes and what the renderer would do with it.
+fn describe(out: &mut dyn Write, part: &CloudPart) -> std::io::Result<()> {
+    let cloud = &part.cloud;
+    writeln!(out, "{}", compute_stats(cloud))?;
+    write_stored(out, cloud, &part.stored)?;
+    writeln!(out, "renderer would:")?;
+    for note in &part.notes {
+        writeln!(out, "  {note}")?;
+    }
+    if part.kind == PartKind::Droplets {
+        return writeln!(
+            out,
+            "  draw them as clear water spheres (n = 1.33) of the radius above"
+        );
+    }
+    if cloud.is_empty() {
+        return writeln!(out, "  draw no film: this set has no particles (left)");
+    }
+    let defaults = EstimateOptions::default();
+    if cloud.normals.is_none() {
+        writeln!(
+            out,
+            "  estimate normals by PCA over {} nearest neighbours",
+            defaults.k_normals
+        )?;
+    }
+    if cloud.radius.is_none() {
+        let mut r = estimate_radii(&cloud.positions, defaults.k_radius, defaults.radius_scale);
+        let mid = r.len() / 2;
+        let median = *r.select_nth_unstable_by(mid, f32::total_cmp).1;
+        writeln!(
+            out,
+            "  estimate splat radii from spacing: median {median:.6} (scene units)"
+        )?;
+    }
+    writeln!(
+        out,
+        "  fit disk radii to the sampling (grown where disks would leave pinholes, trimmed at \
+         open edges; --raw-radii keeps them)"
+    )?;
+    match cloud.thickness_nm.as_deref() {
+        None => writeln!(
+            out,
+            "  use a constant thickness of {} nm (set --default-thickness)",
+            defaults.default_thickness_nm
+        )?,
+        Some(t) => {
+            if let Some(h) = crate::pipeline::thickness_unit_hint(t) {
+                writeln!(out, "  warning: {h}")?;
+            }
+        }
+    }
+    if cloud.normals.is_some() && cloud.radius.is_some() && cloud.thickness_nm.is_some() {
+        writeln!(out, "  use the file's normals, radii and thickness")?;
+    }
     Ok(())
 }
 
@@ -104,7 +141,7 @@ fn write_stored(
     // Single-component position/normal attributes (PLY's x, nx, ...) come in x, y, z order.
     let (mut pos_c, mut nrm_c) = (0usize, 0usize);
     for s in stored {
-        let ty = if s.components == 1 {
+        let ty = if s.components <= 1 {
             s.stored.clone()
         } else {
             format!("{} x{}", s.stored, s.components)
@@ -144,6 +181,16 @@ fn write_stored(
             }
             AttributeRole::Skipped => "(not read)".to_string(),
         };
+        if s.role == AttributeRole::Skipped && s.components == 0 {
+            // A whole file the reader knows and leaves: say what it holds.
+            writeln!(
+                out,
+                "  {:<14} skipped: {}",
+                crate::io::show_name(&s.name),
+                s.stored
+            )?;
+            continue;
+        }
         writeln!(
             out,
             "  {:<14} {:<18} {:<10} {range}",
@@ -172,7 +219,8 @@ fn range_text(values: impl Iterator<Item = f32>) -> String {
     } else if lo > hi {
         "no finite values".to_string()
     } else {
-        format!("{lo:.6} .. {hi:.6}")
+        let n = |v: f32| crate::pointcloud::stats::number(v, 6);
+        format!("{} .. {}", n(lo), n(hi))
     };
     if bad > 0 {
         t.push_str(&format!(" ({bad} non-finite)"));

@@ -124,6 +124,17 @@ pub fn vec3(s: &str) -> Result<[f32; 3], String> {
     }
 }
 
+/// Parses "MIN,MAX" (two finite numbers, MIN < MAX).
+pub fn min_max(s: &str) -> Result<[f32; 2], String> {
+    let v = number_list(s)?;
+    match v[..] {
+        [a, b] if a < b && (a as f32).is_finite() && (b as f32).is_finite() => {
+            Ok([a as f32, b as f32])
+        }
+        _ => Err(format!("'{s}' must be two numbers MIN,MAX with MIN < MAX")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

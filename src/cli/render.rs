@@ -155,9 +155,15 @@ pub struct RenderArgs {
     pub(super) tonemap: Option<String>,
     /// What to show: shaded (the thin-film render), or a scientific view of the first film
     /// crossing: thickness (false colour with a colour bar, nm), normal, depth, particle-id,
-    /// coverage (splats blended per pixel: shows sparse regions and holes).
+    /// coverage (splats blended per pixel: shows sparse regions and holes), or attribute:NAME
+    /// (any stored per-particle attribute, e.g. vrt, conc, gamma; a vector such as v by its
+    /// magnitude; with a colour bar).
     #[arg(long)]
     pub(super) view: Option<String>,
+    /// Values at the ends of the colour bar of --view attribute:NAME, MIN,MAX (default: the
+    /// range of what is visible).
+    #[arg(long, value_parser = super::parse::min_max, allow_hyphen_values = true)]
+    pub(super) view_range: Option<[f32; 2]>,
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii (says how many), instead of refusing the file.
     #[arg(long)]
@@ -317,6 +323,7 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     set!(d.output.saturation, a.saturation);
     set!(d.output.tonemap, a.tonemap);
     set!(d.render.view, a.view);
+    set!(d.render.view_range, a.view_range);
     if a.repair {
         d.input.repair = Some(true);
     }

@@ -33,6 +33,35 @@ impl Default for ChartParams {
     }
 }
 
+impl ChartParams {
+    /// Checks the parameters as `filmsplat chart` does: a valid film (index, thickness > 0),
+    /// a largest angle of 1..89.9 degrees, a size between 400x300 and 16384x16384.
+    pub fn check(&self) -> crate::Result<()> {
+        use crate::Error;
+        crate::optics::check_film_params(self.ior as f64, self.max_thickness_nm as f64)
+            .map_err(|m| Error::invalid(format!("chart: {m}")))?;
+        if self.max_thickness_nm <= 0.0 {
+            return Err(Error::invalid("chart: --max-thickness must be > 0 nm"));
+        }
+        if !(1.0..=89.9).contains(&self.max_angle_deg) {
+            return Err(Error::invalid(format!(
+                "chart: --max-angle must be 1..89.9 degrees, got {}",
+                self.max_angle_deg
+            )));
+        }
+        if !(400..=16_384).contains(&self.width) || !(300..=16_384).contains(&self.height) {
+            return Err(Error::invalid(
+                "chart: --size must be between 400x300 and 16384x16384",
+            ));
+        }
+        // The chart, its 8-bit copy and the encoder: ~40 bytes a pixel.
+        let (w, h) = (self.width, self.height);
+        crate::budget::check((w * h) as u64 * 40, || format!("chart: a {w}x{h} chart"))
+            .map_err(Error::invalid)?;
+        Ok(())
+    }
+}
+
 const INK: [f32; 3] = [0.015, 0.015, 0.015];
 const GRID: [f32; 3] = [0.35, 0.35, 0.35];
 

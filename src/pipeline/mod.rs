@@ -28,8 +28,8 @@ use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
 };
 use crate::render::{
-    Camera, Environment, FilmShader, LatLongMap, Preset, RenderOutput, RenderSettings, Scene,
-    ShadingMode, Studio, View, ViewImage,
+    AttributeValues, Camera, Environment, FilmShader, LatLongMap, Preset, RenderOutput,
+    RenderSettings, Scene, ShadingMode, Studio, View, ViewImage,
 };
 use crate::samples::{SampleKind, SampleParams, sparse};
 use crate::scene::SceneDesc;
@@ -68,6 +68,8 @@ pub struct Prepared {
     pub view: View,
     /// Output path from the scene file, resolved against its folder.
     pub output: Option<PathBuf>,
+    /// The values of an `attribute:NAME` view, one per film particle (`None` for other views).
+    pub attribute: Option<AttributeValues>,
     /// Number of film particles.
     pub particles: usize,
     /// Number of droplets (water spheres).
@@ -224,6 +226,65 @@ fn droplets(parts: &[PointCloud]) -> Result<Droplets> {
     Droplets::build(&centres, &radii)
 }
 
+/// The values of the scene's `attribute:NAME` view from the film cloud: the extra attribute
+/// NAME, the magnitude of the vector NAME_x/_y/_z, or `thickness` / `radius` themselves.
+fn attribute_values(
+    desc: &SceneDesc,
+    cloud: &PointCloud,
+    radii: &[f32],
+) -> Result<AttributeValues> {
+    let view = desc.render.view.as_deref().unwrap_or_default();
+    let name = view.strip_prefix("attribute:").unwrap_or(view);
+    let range = match desc.render.view_range {
+        Some([a, b]) if a.is_finite() && b.is_finite() && a < b => Some((a, b)),
+        Some([a, b]) => {
+            return Err(Error::invalid(format!(
+                "render.view_range must be two finite numbers MIN < MAX, got [{a}, {b}]"
+            )));
+        }
+        None => None,
+    };
+    let found = |title: String, values: Vec<f32>| AttributeValues {
+        title,
+        values,
+        range,
+    };
+    if let Some(v) = cloud.extra(name) {
+        return Ok(found(name.to_string(), v.to_vec()));
+    }
+    let comps: Option<Vec<&[f32]>> = ["x", "y", "z"]
+        .iter()
+        .map(|c| cloud.extra(&format!("{name}_{c}")))
+        .collect();
+    if let Some(c) = comps {
+        let v = (0..cloud.len())
+            .map(|i| Vec3::new(c[0][i], c[1][i], c[2][i]).length())
+            .collect();
+        return Ok(found(format!("|{name}|"), v));
+    }
+    match name {
+        "thickness" => Ok(found(
+            "thickness (nm)".into(),
+            cloud.thickness_nm.clone().unwrap_or_default(),
+        )),
+        "radius" => Ok(found("splat radius".into(), radii.to_vec())),
+        _ => {
+            let mut names: Vec<&str> = cloud.extra.iter().map(|(k, _)| k.as_str()).collect();
+            names.truncate(40);
+            Err(Error::invalid(format!(
+                "render.view: no attribute '{}' in the film particles (they have: {}; vectors \
+                 by their name without _x/_y/_z; also thickness, radius)",
+                crate::io::show_name(name),
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            )))
+        }
+    }
+}
+
 /// A hint when thickness values (nm) are implausible for a soap film as read: all below
 /// 0.001 nm (a file in metres read as nm) or all above 1 mm (a file in nm read as metres).
 pub fn thickness_unit_hint(thickness_nm: &[f32]) -> Option<String> {
@@ -249,6 +310,18 @@ pub fn thickness_unit_hint(thickness_nm: &[f32]) -> Option<String> {
 /// Builds everything the renderer needs from a scene description. `base` is the folder paths
 /// are relative to; `progress` enables the progress bar.
 pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared> {
+    prepare_with(desc, base, progress, None)
+}
+
+/// [`prepare`], with the particles given in memory (`cloud`, thickness in nm) instead of the
+/// scene's `[input]`, which is then ignored. Everything else (checks, estimation of missing
+/// normals and radii, geometry, camera) is the same. For the Python package.
+pub fn prepare_with(
+    desc: &SceneDesc,
+    base: &Path,
+    progress: bool,
+    cloud: Option<PointCloud>,
+) -> Result<Prepared> {
     let mut notes = Vec::new();
     let ior = desc.film.ior.unwrap_or(1.33);
     check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
@@ -348,7 +421,11 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     }
 
     let t0 = Instant::now();
-    let parts = load_parts(desc, base)?;
+    let parts = match cloud {
+        // A cloud given in memory (the Python API) replaces what `[input]` would load.
+        Some(c) => vec![CloudPart::film("the given cloud".into(), c, Vec::new())],
+        None => load_parts(desc, base)?,
+    };
     let load_time = t0.elapsed();
     let t1 = Instant::now();
     let repairing = desc.input.repair == Some(true);
@@ -465,6 +542,10 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
     let scale = radius_scale * estimated_scale;
     let radii: Vec<f32> = cloud.radius.iter().flatten().map(|r| r * scale).collect();
 
+    let attribute = match view {
+        View::Attribute => Some(attribute_values(desc, &cloud, &radii)?),
+        _ => None,
+    };
     let t2 = Instant::now();
     let empty = Vec::new();
     let normals = cloud.normals.as_ref().unwrap_or(&empty);
@@ -555,6 +636,7 @@ pub fn prepare(desc: &SceneDesc, base: &Path, progress: bool) -> Result<Prepared
         grade: grade(desc)?,
         view,
         output,
+        attribute,
         particles: cloud.len(),
         droplets: n_droplets,
         load_time,
@@ -604,7 +686,7 @@ fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
 }
 
 /// The scene's explicit camera, or the auto-framed one for `framing` (see [`framing`]).
-fn camera(desc: &SceneDesc, framing: &Framing, aspect: f32) -> Result<Camera> {
+pub fn camera(desc: &SceneDesc, framing: &Framing, aspect: f32) -> Result<Camera> {
     let c = &desc.camera;
     let fov = framing::checked_fov(c)?;
     let up = vec3(c.up.unwrap_or(framing::DEFAULT_UP), "camera.up")?;
@@ -735,6 +817,17 @@ pub fn render(p: &Prepared) -> Result<RenderOutput> {
 /// Writes `out` to `path`: PNG (exposure + tone curve + sRGB) or EXR (linear RGBA plus depth,
 /// normal, thickness and hit-count layers), by extension. Written atomically.
 pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> {
+    write_output(out, &p.grade, p.exposure, p.tonemap, path)
+}
+
+/// [`write_image`] with the grading, exposure (EV) and tone curve given directly.
+pub fn write_output(
+    out: &RenderOutput,
+    grade: &Grade,
+    exposure: f32,
+    tonemap: ToneMap,
+    path: &Path,
+) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -743,7 +836,7 @@ pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> 
         Some("png") => {
             let data = out.rgb.iter().map(|c| c.to_array()).collect();
             let img = RgbImage::from_data(out.width, out.height, data)?;
-            save_png(path, &p.grade.apply(&img), p.exposure, p.tonemap)
+            save_png(path, &grade.apply(&img), exposure, tonemap)
         }
         Some("exr") => {
             let rgba = out
@@ -776,7 +869,8 @@ pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
     }
     let (width, height) = (p.settings.width, p.settings.height);
     let scene_w = scene_width(p.view, width, height);
-    let mut v = crate::render::render_view(&p.scene, p.view, scene_w, height)?;
+    let mut v =
+        crate::render::render_view_of(&p.scene, p.view, scene_w, height, p.attribute.as_ref())?;
     if let Some(l) = &v.legend {
         let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
         let img = RgbImage::from_data(v.width, v.height, data)?;

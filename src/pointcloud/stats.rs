@@ -152,6 +152,17 @@ pub fn compute_stats(cloud: &PointCloud) -> CloudStats {
     }
 }
 
+/// `v` with `prec` decimals, or in scientific notation where that would hide it (magnitudes
+/// below 10⁻³ or from 10⁷ on, e.g. a thickness of 5e-7 m or a mass of 1e-8 kg).
+pub fn number(v: f32, prec: usize) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-3..1e7).contains(&a) {
+        format!("{v:.prec$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
 fn write_summary(
     f: &mut fmt::Formatter<'_>,
     name: &str,
@@ -162,8 +173,10 @@ fn write_summary(
     let prec = if unit == " nm" { 1 } else { 4 };
     write!(
         f,
-        "{name:<12} min {:.prec$} max {:.prec$} mean {:.prec$}{unit}",
-        s.min, s.max, s.mean
+        "{name:<12} min {} max {} mean {}{unit}",
+        number(s.min, prec),
+        number(s.max, prec),
+        number(s.mean as f32, prec)
     )?;
     if s.non_finite > 0 {
         write!(f, " ({} non-finite)", s.non_finite)?;

@@ -24,6 +24,8 @@ use crate::geometry::{FilmGeometry, Props, SurfaceHit};
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// What to render: geometry, camera, light.
 #[derive(Debug)]
@@ -85,6 +87,13 @@ pub struct RenderSettings {
     /// Sample lights and environment at props (next-event estimation with MIS); `false`
     /// samples the material only (for checking: same mean, more noise).
     pub next_event: bool,
+    /// Set it from another thread to stop the render: it is checked before each 16×16 tile,
+    /// and the render then returns [`Error::Cancelled`] (so a stop costs at most one tile per
+    /// core).
+    pub cancel: Option<Arc<AtomicBool>>,
+    /// Counts the finished 16×16 tiles (of `⌈width/16⌉·⌈height/16⌉`), for a caller's own
+    /// progress display.
+    pub tiles_done: Option<Arc<AtomicUsize>>,
 }
 
 impl Default for RenderSettings {
@@ -101,6 +110,8 @@ impl Default for RenderSettings {
             light_samples: 1,
             prop_bounces: 1,
             next_event: true,
+            cancel: None,
+            tiles_done: None,
         }
     }
 }
@@ -163,6 +174,9 @@ pub fn render(
         .par_iter()
         .map(|&(tx, ty)| {
             let (x0, y0) = (tx * TILE, ty * TILE);
+            if cancelled(settings) {
+                return (x0, y0, Vec::new(), 0);
+            }
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             let mut shading = SampleShading::default();
             let mut rays = 0;
@@ -187,10 +201,16 @@ pub fn render(
                 }
             }
             bar.inc(1);
+            if let Some(done) = &settings.tiles_done {
+                done.fetch_add(1, Ordering::Relaxed);
+            }
             (x0, y0, pixels, rays)
         })
         .collect();
     bar.finish_and_clear();
+    if cancelled(settings) {
+        return Err(Error::Cancelled);
+    }
     let mut out = RenderOutput {
         width: w,
         height: h,
@@ -216,6 +236,14 @@ pub fn render(
         }
     }
     Ok(out)
+}
+
+/// True once the caller has asked the render to stop.
+fn cancelled(settings: &RenderSettings) -> bool {
+    settings
+        .cancel
+        .as_ref()
+        .is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
 struct Px {

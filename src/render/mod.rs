@@ -22,4 +22,4 @@ pub use lights::{AreaLight, LightShape};
 pub use material::Material;
 pub use presets::{Preset, PresetValues};
 pub use shading::{FilmShader, ShadingMode};
-pub use views::{Legend, Ramp, View, ViewImage, render_view};
+pub use views::{AttributeValues, Legend, Ramp, View, ViewImage, render_view, render_view_of};

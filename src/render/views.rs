@@ -26,6 +26,23 @@ pub enum View {
     ParticleId,
     /// How many splats were blended into the crossing: shows sparse regions and holes.
     Coverage,
+    /// A stored per-particle attribute (`attribute:NAME`; vectors by magnitude) of the particle
+    /// that weighs most at the crossing, in false colour with a labelled colour bar. The values
+    /// come with the render ([`AttributeValues`]).
+    Attribute,
+}
+
+/// The values an [`View::Attribute`] view shows: one per particle of the film geometry (in its
+/// build order), a title for the bar, and the range the ramp spans (`None`: the visible
+/// values' range).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttributeValues {
+    /// Bar title, e.g. `vrt` or `|v|`.
+    pub title: String,
+    /// One value a particle.
+    pub values: Vec<f32>,
+    /// Values at the bottom and top of the bar; `None` for the range of what is visible.
+    pub range: Option<(f32, f32)>,
 }
 
 impl FromStr for View {
@@ -38,8 +55,10 @@ impl FromStr for View {
             "depth" => Ok(View::Depth),
             "particle-id" => Ok(View::ParticleId),
             "coverage" => Ok(View::Coverage),
+            _ if s.strip_prefix("attribute:").is_some_and(|n| !n.is_empty()) => Ok(View::Attribute),
             _ => Err(format!(
-                "unknown view '{s}' (expected shaded, thickness, normal, depth, particle-id or coverage)"
+                "unknown view '{s}' (expected shaded, thickness, normal, depth, particle-id, \
+                 coverage or attribute:NAME)"
             )),
         }
     }
@@ -48,7 +67,10 @@ impl FromStr for View {
 impl View {
     /// True for the views drawn with a colour bar (thickness, depth, coverage).
     pub fn has_legend(self) -> bool {
-        matches!(self, View::Thickness | View::Depth | View::Coverage)
+        matches!(
+            self,
+            View::Thickness | View::Depth | View::Coverage | View::Attribute
+        )
     }
 }
 
@@ -61,6 +83,7 @@ impl fmt::Display for View {
             View::Depth => "depth",
             View::ParticleId => "particle-id",
             View::Coverage => "coverage",
+            View::Attribute => "attribute",
         })
     }
 }
@@ -126,6 +149,27 @@ const BACKGROUND: Vec3 = Vec3::splat(0.012);
 
 /// Renders `view` (not [`View::Shaded`]) at `width × height`.
 pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Result<ViewImage> {
+    render_view_of(scene, view, width, height, None)
+}
+
+/// [`render_view`] with the values of an [`View::Attribute`] view.
+///
+/// # Errors
+/// As [`render_view`]; an attribute view without values, or with a count that is not the
+/// geometry's, is refused.
+pub fn render_view_of(
+    scene: &Scene,
+    view: View,
+    width: usize,
+    height: usize,
+    attribute: Option<&AttributeValues>,
+) -> Result<ViewImage> {
+    if view == View::Attribute && attribute.is_none_or(|a| a.values.len() != scene.geometry.len()) {
+        return Err(Error::invalid(format!(
+            "the attribute view needs one value per particle ({} particles)",
+            scene.geometry.len()
+        )));
+    }
     if width == 0 || height == 0 {
         return Err(Error::invalid(format!(
             "image size must be at least 1x1, got {width}x{height}"
@@ -186,6 +230,20 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
             None,
         ),
         View::ParticleId => (Box::new(|h| id_colour(h.particle)), None),
+        View::Attribute => {
+            let a = attribute.expect("checked above");
+            let value = |h: &SurfaceHit| a.values.get(h.particle as usize).copied().unwrap_or(0.0);
+            let r = a.range.unwrap_or_else(|| range(&value));
+            let l = legend(&a.title, r, Ramp::Viridis);
+            let paint = l.clone();
+            let values = a.values.clone();
+            (
+                Box::new(move |h| {
+                    paint.colour(values.get(h.particle as usize).copied().unwrap_or(0.0))
+                }),
+                Some(l),
+            )
+        }
         View::Shaded => unreachable!("rejected above"),
     };
     let rgb = hits

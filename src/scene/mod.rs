@@ -250,8 +250,11 @@ pub struct RenderDesc {
     /// "jittered" (default), "stratified" or "hero".
     pub strategy: Option<String>,
     /// What to show: "shaded" (default), "thickness", "normal", "depth", "particle-id",
-    /// "coverage".
+    /// "coverage", or "attribute:NAME" (a stored per-particle attribute; vectors by magnitude).
     pub view: Option<String>,
+    /// Values at the ends of the colour bar of an `attribute:NAME` view (default: the range of
+    /// what is visible).
+    pub view_range: Option<[f32; 2]>,
 }
 
 /// `[output]`: files and tone mapping.

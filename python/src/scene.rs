@@ -1,0 +1,230 @@
+//! `filmsplat._native._Scene`: geometry built once from clouds (or a scene file), rendered as
+//! often as asked with the GIL released, stoppable with Ctrl-C.
+
+use crate::cloud::Cloud;
+use crate::errors::{invalid, to_py};
+use crate::image::Image;
+use filmsplat::pipeline::{Prepared, camera, prepare_with};
+use filmsplat::pointcloud::PointCloud;
+use filmsplat::render::{View, render, render_view};
+use filmsplat::scene::SceneDesc;
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, TryLockError, mpsc};
+use std::time::Duration;
+
+/// How often a running render looks at Python: Ctrl-C and the progress callback.
+const POLL: Duration = Duration::from_millis(100);
+
+/// Concatenates clouds. An array (normals, thickness, radius, an attribute) is kept only if
+/// every cloud has it; normals and radii given by some clouds only are an error (estimating
+/// them for the others would change those given), thickness too.
+fn merge(clouds: &[PyRef<'_, Cloud>]) -> PyResult<PointCloud> {
+    if let [one] = clouds {
+        return Ok(one.cloud.clone());
+    }
+    let mut all = PointCloud::default();
+    let count = |f: &dyn Fn(&PointCloud) -> bool| clouds.iter().filter(|c| f(&c.cloud)).count();
+    let n = clouds.len();
+    for (name, k) in [
+        ("normals", count(&|c| c.normals.is_some())),
+        ("thickness_nm", count(&|c| c.thickness_nm.is_some())),
+        ("radius", count(&|c| c.radius.is_some())),
+    ] {
+        if k != 0 && k != n {
+            return Err(invalid(format!(
+                "Scene: {k} of {n} clouds have {name}; give it for all or none"
+            )));
+        }
+    }
+    for c in clouds {
+        let c = &c.cloud;
+        all.positions.extend(&c.positions);
+        if let Some(v) = &c.normals {
+            all.normals.get_or_insert_with(Vec::new).extend(v);
+        }
+        if let Some(v) = &c.thickness_nm {
+            all.thickness_nm.get_or_insert_with(Vec::new).extend(v);
+        }
+        if let Some(v) = &c.radius {
+            all.radius.get_or_insert_with(Vec::new).extend(v);
+        }
+    }
+    let first = &clouds[0].cloud;
+    for (name, _) in &first.extra {
+        if clouds.iter().all(|c| c.cloud.extra(name).is_some()) {
+            let v = clouds
+                .iter()
+                .flat_map(|c| c.cloud.extra(name).expect("checked").to_vec())
+                .collect();
+            all.extra.push((name.clone(), v));
+        }
+    }
+    Ok(all)
+}
+
+/// A built scene: the geometry, the shader and the settings of one scene description.
+#[pyclass(frozen, name = "_Scene", module = "filmsplat._native")]
+pub struct NativeScene {
+    prepared: Mutex<Prepared>,
+    desc: SceneDesc,
+    #[pyo3(get)]
+    particles: usize,
+    #[pyo3(get)]
+    notes: Vec<String>,
+    /// Seconds spent loading, estimating and building.
+    #[pyo3(get)]
+    build_seconds: (f64, f64, f64),
+    /// Image size of the scene description, (width, height) pixels. Kept outside the mutex:
+    /// waiting for it with the GIL held would deadlock against a render's polling.
+    #[pyo3(get)]
+    size: (usize, usize),
+}
+
+#[pymethods]
+impl NativeScene {
+    /// Builds a scene from TOML text (`name` for messages; paths relative to `base`) and, if
+    /// given, in-memory clouds that replace its `[input]`.
+    #[new]
+    #[pyo3(signature = (toml, name, base, clouds=None))]
+    fn new(
+        py: Python<'_>,
+        toml: &str,
+        name: &str,
+        base: PathBuf,
+        clouds: Option<Vec<PyRef<'_, Cloud>>>,
+    ) -> PyResult<Self> {
+        let desc = SceneDesc::from_toml(toml, name).map_err(to_py)?;
+        let cloud = match clouds {
+            Some(c) if c.is_empty() => return Err(invalid("Scene: no clouds given")),
+            Some(c) => Some(merge(&c)?),
+            None => None,
+        };
+        let p = py
+            .detach(|| prepare_with(&desc, &base, false, cloud))
+            .map_err(to_py)?;
+        Ok(NativeScene {
+            particles: p.particles,
+            notes: p.notes.iter().filter(|n| !n.is_empty()).cloned().collect(),
+            build_seconds: (
+                p.load_time.as_secs_f64(),
+                p.estimate_time.as_secs_f64(),
+                p.build_time.as_secs_f64(),
+            ),
+            size: (p.settings.width, p.settings.height),
+            prepared: Mutex::new(p),
+            desc,
+        })
+    }
+
+    /// Renders. `camera_toml`: a `[camera]` table replacing the scene's; `None` arguments
+    /// keep the scene's values; `progress(done, total)` is called about every 0.1 s with
+    /// finished and total tiles.
+    #[pyo3(signature = (camera_toml=None, size=None, spp=None, view=None, seed=None, progress=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn render(
+        &self,
+        py: Python<'_>,
+        camera_toml: Option<&str>,
+        size: Option<(usize, usize)>,
+        spp: Option<u32>,
+        view: Option<&str>,
+        seed: Option<u64>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<Image> {
+        let cam_desc = match camera_toml {
+            Some(t) => SceneDesc::from_toml(t, "camera").map_err(to_py)?.camera,
+            None => self.desc.camera.clone(),
+        };
+        let view: Option<View> = view
+            .map(|v| v.parse().map_err(|e| invalid(format!("view: {e}"))))
+            .transpose()?;
+        // Never wait for the lock with the GIL held (the render holding it needs the GIL to
+        // poll). A panicked render leaves the scene intact (only the camera is written).
+        let mut p = match self.prepared.try_lock() {
+            Ok(p) => p,
+            Err(TryLockError::Poisoned(p)) => p.into_inner(),
+            Err(TryLockError::WouldBlock) => {
+                return Err(PyRuntimeError::new_err(
+                    "Scene.render: this scene is rendering in another thread",
+                ));
+            }
+        };
+        let mut settings = p.settings.clone();
+        if let Some((w, h)) = size {
+            if w == 0 || h == 0 || w > 32_768 || h > 32_768 {
+                return Err(invalid(format!(
+                    "image size must be between 1x1 and 32768x32768, got {w}x{h}"
+                )));
+            }
+            (settings.width, settings.height) = (w, h);
+        }
+        if let Some(s) = spp {
+            if s == 0 {
+                return Err(invalid("render.spp must be at least 1"));
+            }
+            settings.spp = s;
+        }
+        if let Some(s) = seed {
+            settings.seed = s;
+        }
+        let desc = SceneDesc {
+            camera: cam_desc,
+            ..SceneDesc::default()
+        };
+        let aspect = settings.width as f32 / settings.height as f32;
+        p.scene.camera = camera(&desc, &p.framing, aspect).map_err(to_py)?;
+        let view = view.unwrap_or(p.view);
+        if view != View::Shaded {
+            let (w, h) = (settings.width, settings.height);
+            let v = py
+                .detach(|| render_view(&p.scene, view, w, h))
+                .map_err(to_py)?;
+            return Ok(Image::view(v, &view.to_string()));
+        }
+        let cancel = Arc::new(AtomicBool::new(false));
+        let done = Arc::new(AtomicUsize::new(0));
+        settings.cancel = Some(cancel.clone());
+        settings.tiles_done = Some(done.clone());
+        settings.progress = false;
+        let total = settings.width.div_ceil(16) * settings.height.div_ceil(16);
+        let prepared: &Prepared = &p;
+        let out = py.detach(|| {
+            std::thread::scope(|s| {
+                let (tx, rx) = mpsc::channel();
+                let settings = &settings;
+                s.spawn(move || {
+                    let r = render(&prepared.scene, &prepared.shader, settings);
+                    let _ = tx.send(r);
+                });
+                loop {
+                    match rx.recv_timeout(POLL) {
+                        Ok(r) => return r.map_err(to_py),
+                        Err(mpsc::RecvTimeoutError::Disconnected) => {
+                            return Err(invalid("render: the render thread stopped"));
+                        }
+                        Err(mpsc::RecvTimeoutError::Timeout) => {}
+                    }
+                    let polled = Python::attach(|py| -> PyResult<()> {
+                        py.check_signals()?;
+                        if let Some(cb) = &progress {
+                            cb.call1(py, (done.load(Ordering::Relaxed), total))?;
+                        }
+                        Ok(())
+                    });
+                    if let Err(e) = polled {
+                        cancel.store(true, Ordering::Relaxed);
+                        let _ = rx.recv();
+                        return Err(e);
+                    }
+                }
+            })
+        })?;
+        if let Some(cb) = &progress {
+            cb.call1(py, (total, total))?;
+        }
+        Ok(Image::shaded(out, p.grade, p.exposure, p.tonemap))
+    }
+}
