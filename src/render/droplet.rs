@@ -95,6 +95,9 @@ impl Tracer<'_> {
             dir = reflect(dir, -out_n);
             origin = q;
         }
-        sum
+        // Past the most inner reflections followed, what is left leaves unrefracted.
+        let q = origin + dir * drops.exit_distance(hit.index, origin, dir);
+        let rest = Ray { origin: q, dir };
+        sum + self.escape_view(l, &rest) * inner
     }
 }
