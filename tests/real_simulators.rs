@@ -10,7 +10,9 @@ use glam::Vec3;
 use std::path::{Path, PathBuf};
 
 fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
 }
 
 /// `BinaryDataIO::Write_Array`: u32 count, then f64 values.
@@ -46,12 +48,18 @@ fn a_bursting_bubble_frame_is_its_film_and_its_droplets() {
     let parts = read_parts(&dir, &ReadOptions::default()).unwrap();
     assert_eq!(parts.len(), 2);
     let (film, drops) = (&parts[0], &parts[1]);
-    assert_eq!((film.kind, drops.kind), (PartKind::Film, PartKind::Droplets));
+    assert_eq!(
+        (film.kind, drops.kind),
+        (PartKind::Film, PartKind::Droplets)
+    );
     assert_eq!(film.cloud.len(), 14);
     // Thickness is rh_bin, in metres.
     let rh = f64s(&dir.join("rh_bin"));
     for (t, r) in film.cloud.thickness_nm.as_ref().unwrap().iter().zip(&rh) {
-        assert!((f64::from(*t) - r * 1e9).abs() < 1e-3 * r * 1e9, "{t} vs {r} m");
+        assert!(
+            (f64::from(*t) - r * 1e9).abs() < 1e-3 * r * 1e9,
+            "{t} vs {r} m"
+        );
     }
     // Droplets: the float32 positions of tracker_points_3d, radius of a sphere of a film
     // particle's volume SA·H (the simulator turns a film particle into a droplet of its mass).
@@ -81,12 +89,20 @@ fn snapshot_normals_are_column_2_of_the_column_major_frame() {
     let film = &parts[0].cloud;
     // The frame folder of the same frame writes Normal(i) = E(i).col(2) as norm_bin.
     let norm = f64s(&data("thin-film-sph/bursting_bubble/100/norm_bin"));
-    for (n, want) in film.normals.as_ref().unwrap().iter().zip(norm.chunks_exact(3)) {
+    for (n, want) in film
+        .normals
+        .as_ref()
+        .unwrap()
+        .iter()
+        .zip(norm.chunks_exact(3))
+    {
         let want = Vec3::new(want[0] as f32, want[1] as f32, want[2] as f32);
         assert!((*n - want).length() < 1e-6, "{n} vs {want}");
     }
     // int32 and f64 attributes, vectors and 2×2 matrices all read; the droplets from 3d/.
-    for name in ["b", "idx", "phase", "vrt", "conc", "gamma", "v_x", "g_3", "dh_1"] {
+    for name in [
+        "b", "idx", "phase", "vrt", "conc", "gamma", "v_x", "g_3", "dh_1",
+    ] {
         assert!(film.extra(name).is_some(), "{name}");
     }
     let v = f64s(&snap.join("v.bin"));
@@ -103,7 +119,11 @@ fn melp_vtp_thickness_is_h_in_metres_and_radius_the_disk_of_sa() {
     assert_eq!(c.len(), 19_995);
     let t = c.thickness_nm.as_ref().unwrap();
     // H is 2e-7 .. 5e-7 m: 200 .. 500 nm, not 1e-7 nm.
-    assert!(t.iter().all(|v| (150.0..600.0).contains(v)), "{:?}", &t[..4]);
+    assert!(
+        t.iter().all(|v| (150.0..600.0).contains(v)),
+        "{:?}",
+        &t[..4]
+    );
     let sa = c.extra("SA").unwrap();
     for (r, a) in c.radius.as_ref().unwrap().iter().zip(sa) {
         assert!((r - (a / std::f32::consts::PI).sqrt()).abs() < 1e-7);
@@ -164,8 +184,15 @@ fn render_at(name: &str, inputs: &[&Path], size: &str, extra: &[&str]) -> (Strin
     let mut args = vec!["render".to_string()];
     args.extend(inputs.iter().map(|p| p.to_str().unwrap().to_string()));
     args.extend(
-        ["-o", out.to_str().unwrap(), "--size", size, "--preset", "preview"]
-            .map(String::from),
+        [
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            size,
+            "--preset",
+            "preview",
+        ]
+        .map(String::from),
     );
     args.extend(extra.iter().map(|s| s.to_string()));
     let refs: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -188,7 +215,10 @@ fn frames_render_as_written_droplets_included() {
         &[&data("thin-film-sph/bursting_bubble/100")],
         &[],
     );
-    assert!(said.contains("14 particles") && said.contains("2548 droplets"), "{said}");
+    assert!(
+        said.contains("14 particles") && said.contains("2548 droplets"),
+        "{said}"
+    );
     // A frame whose film has ruptured completely still renders its droplets.
     let dir = folder("sph-droplets-only");
     let src = data("thin-film-sph/bursting_bubble/100");
@@ -200,7 +230,10 @@ fn frames_render_as_written_droplets_included() {
         std::fs::write(dir.join(film), 0u32.to_le_bytes()).unwrap();
     }
     let (said, _) = render("sph-empty-film", &[&dir], &[]);
-    assert!(said.contains("0 particles") && said.contains("2548 droplets"), "{said}");
+    assert!(
+        said.contains("0 particles") && said.contains("2548 droplets"),
+        "{said}"
+    );
 }
 
 #[test]
@@ -218,7 +251,11 @@ fn several_inputs_are_one_scene() {
     assert_eq!(code, 0, "{err}");
     let c = filmsplat::io::read_cloud(&far, &ReadOptions::default()).unwrap();
     let moved = filmsplat::pointcloud::PointCloud {
-        positions: c.positions.iter().map(|p| *p + Vec3::new(3.0, 0.0, 0.0)).collect(),
+        positions: c
+            .positions
+            .iter()
+            .map(|p| *p + Vec3::new(3.0, 0.0, 0.0))
+            .collect(),
         ..c
     };
     filmsplat::io::write_ply(&far, &moved).unwrap();
@@ -231,8 +268,14 @@ fn several_inputs_are_one_scene() {
             .filter(|(k, v)| **v > 0.5 && ((k % 64) < 32) == left)
             .count()
     };
-    assert!(covered(&one, true) > 100 && covered(&one, false) < 10, "one shell, on the left");
-    assert!(covered(&two, true) > 100 && covered(&two, false) > 100, "{said}");
+    assert!(
+        covered(&one, true) > 100 && covered(&one, false) < 10,
+        "one shell, on the left"
+    );
+    assert!(
+        covered(&two, true) > 100 && covered(&two, false) > 100,
+        "{said}"
+    );
 }
 
 #[test]
@@ -249,6 +292,9 @@ fn fitted_radii_leave_no_pinholes_in_closed_real_films() {
         let (said, _) = render_at(name, &[&input], "320x240", &[]);
         assert!(share(&said) <= 0.02, "{name}: {said}");
         let (raw, _) = render_at(name, &[&input], "320x240", &["--raw-radii"]);
-        assert!(share(&raw) > 0.05, "{name} without fitting has pinholes: {raw}");
+        assert!(
+            share(&raw) > 0.05,
+            "{name} without fitting has pinholes: {raw}"
+        );
     }
 }

@@ -42,7 +42,12 @@ fn shader() -> FilmShader {
 
 #[test]
 fn a_droplet_in_a_white_furnace_vanishes() {
-    let out = render(&scene(Environment::Uniform(Vec3::ONE)), &shader(), &settings(12)).unwrap();
+    let out = render(
+        &scene(Environment::Uniform(Vec3::ONE)),
+        &shader(),
+        &settings(12),
+    )
+    .unwrap();
     for c in &out.rgb {
         assert!((*c - Vec3::ONE).abs().max_element() < 1e-4, "{c}");
     }
@@ -53,7 +58,13 @@ fn a_droplet_turns_the_world_behind_it_upside_down() {
     // Bright above the horizon, dark below: through the centre of a ball lens the camera sees
     // the ground above the ball's middle and the sky below it (and itself only faintly in the
     // 2 % Fresnel reflection).
-    let sky = |d: Vec3| if d.y > 0.0 { Vec3::ONE } else { Vec3::splat(0.02) };
+    let sky = |d: Vec3| {
+        if d.y > 0.0 {
+            Vec3::ONE
+        } else {
+            Vec3::splat(0.02)
+        }
+    };
     let w = 64;
     let texels: Vec<Vec3> = (0..w * w / 2)
         .map(|k| {
@@ -62,12 +73,23 @@ fn a_droplet_turns_the_world_behind_it_upside_down() {
             sky(Vec3::new(0.0, theta.cos(), 0.0))
         })
         .collect();
-    let env = Environment::Map(filmsplat::render::LatLongMap::new(w, w / 2, texels, 0.0, 1.0));
+    let env = Environment::Map(filmsplat::render::LatLongMap::new(
+        w,
+        w / 2,
+        texels,
+        0.0,
+        1.0,
+    ));
     let out = render(&scene(env), &shader(), &settings(12)).unwrap();
     let at = |x: usize, y: usize| out.rgb[y * 48 + x].x;
     // Inside the droplet (it spans rows ~13..35), a little above and below its centre.
     let (upper, lower) = (at(24, 18), at(24, 30));
     assert!(lower > 0.5 && upper < 0.3, "upper {upper}, lower {lower}");
     // Outside, the sky is bright above and dark below, the other way round.
-    assert!(at(24, 2) > 0.5 && at(24, 45) < 0.3, "{} {}", at(24, 2), at(24, 45));
+    assert!(
+        at(24, 2) > 0.5 && at(24, 45) < 0.3,
+        "{} {}",
+        at(24, 2),
+        at(24, 45)
+    );
 }

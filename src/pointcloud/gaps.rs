@@ -2,19 +2,19 @@
 //! particles that sample the surface, trimmed where the surface ends.
 //!
 //! For each particle i the neighbours of its kNN row that lie on its sheet (normals within
-//! 60°, not farther off its tangent plane than along it) are projected onto i's tangent plane;
-//! its Gabriel neighbours among them (no other neighbour inside the circle on i–j as diameter:
-//! the first ring, as in a Delaunay triangulation, whatever the sampling's anisotropy) are
-//! sorted by angle. Each pair of angularly consecutive ones (a, b) spans a fan triangle
-//! (i, a, b), unless no neighbour at all lies within [`OPEN_ANGLE_DEG`] of the sector between
-//! them, or a side is
-//! longer than [`LONG_EDGE`] × the cloud's median spacing: that side of i is open (a free
-//! edge, the rim of a hole, a rupture front, a film torn into sparse fragments), and i is an
-//! edge particle.
+//! 60°, not farther off its tangent plane than along it) are projected onto i's tangent plane,
+//! and i's Voronoi cell among them is cut out: the part of the surface nearer to i than to any
+//! other particle, clipped to a square of half-side [`LONG_EDGE`] × the cloud's spacing. A disk
+//! that reaches its cell's farthest vertex covers the whole cell, and the cells tile the
+//! surface: if every disk covers its cell, no ray slips between them, whatever the sampling
+//! (hexagonal, jittered, rows much farther apart than their particles, random). A cell vertex
+//! at [`OPEN_FRACTION`] of the clipping square or beyond means no particle on that side: an
+//! open edge (a free edge, the rim of a hole wider than about twice that, a rupture front, a
+//! film torn into sparse fragments), and i is an edge particle.
 //!
 //! - **Gaps.** An interior particle's radius grows to [`GAP_MARGIN`] × the distance to its
 //!   cell's farthest vertex, if that is more (capped at [`MAX_GROWTH`] × the median radius).
-//! - **Edges.** An edge particle's disk is shrunk to what its fan triangles need, and at least
+//! - **Edges.** An edge particle's disk is shrunk to what its cell's closed side needs, and at least
 //!   [`EDGE_REACH`] × its spacing (the mean distance to its three nearest sheet neighbours),
 //!   but never above its previous radius nor the cloud's median radius: a rim
 //!   ends about half a spacing beyond its last particles instead of bulging by a whole
@@ -40,6 +40,10 @@ use super::knn::{KnnTable, PointIndex};
 /// that distance is d; on a random one about 1.9 times the nearest-neighbour distance). A cell
 /// vertex beyond half of it means an open side: no particle within a hole's width.
 pub const LONG_EDGE: f32 = 2.5;
+
+/// A cell vertex at least this fraction of [`LONG_EDGE`] × spacing from the particle marks an
+/// open side (the cell reaches the clipping square there: no particle beyond).
+pub const OPEN_FRACTION: f32 = 0.8;
 
 /// Which neighbour's distance measures the spacing for [`LONG_EDGE`].
 pub const SPACING_RANK: usize = 6;
@@ -235,7 +239,7 @@ fn fan(
     // i's Voronoi cell among its sheet neighbours, clipped to a square of half-side
     // `longest`: the part of the surface nearer to i than to any other particle.
     let cell = voronoi_cell(&near, longest);
-    let open = 0.5 * longest;
+    let open = OPEN_FRACTION * longest;
     let mut need = 0.0f32;
     let mut edge = cell.is_empty();
     for c in &cell {
