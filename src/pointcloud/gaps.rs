@@ -94,7 +94,7 @@ enum Fit {
 }
 
 /// Neighbours a fan is built from.
-pub const FAN_NEIGHBOURS: usize = 20;
+pub const FAN_NEIGHBOURS: usize = 12;
 
 /// Neighbours a particle that looks like an edge among [`FAN_NEIGHBOURS`] is looked at again
 /// with.
