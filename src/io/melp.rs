@@ -61,7 +61,7 @@ pub(crate) fn writer(cols: &Columns) -> Option<Writer> {
 /// A one-line message if the points are not whole glyphs of equal attributes.
 pub(crate) fn collapse_glyphs(mut cols: Columns) -> Result<Columns, String> {
     let n = cols.positions.len();
-    if n % GLYPH_POINTS != 0 {
+    if !n.is_multiple_of(GLYPH_POINTS) {
         return Err(format!(
             "{n} points are not whole MELP disk glyphs of {GLYPH_POINTS} points"
         ));
@@ -115,11 +115,15 @@ mod tests {
 
     #[test]
     fn glyph_errors() {
-        let mut cols = Columns::default();
-        cols.positions = vec![Vec3::ZERO; GLYPH_POINTS + 1];
+        let cols = Columns {
+            positions: vec![Vec3::ZERO; GLYPH_POINTS + 1],
+            ..Columns::default()
+        };
         assert!(collapse_glyphs(cols).unwrap_err().contains("whole"));
-        let mut cols = Columns::default();
-        cols.positions = vec![Vec3::ZERO; GLYPH_POINTS];
+        let mut cols = Columns {
+            positions: vec![Vec3::ZERO; GLYPH_POINTS],
+            ..Columns::default()
+        };
         let mut r = vec![1.0f32; GLYPH_POINTS];
         r[7] = 2.0;
         cols.scalars.push(("radius".into(), r));

@@ -214,7 +214,11 @@ fn fan(
     row: &mut dyn Iterator<Item = (u32, f32)>,
 ) -> Fit {
     let (p, nrm) = (positions[i], normals[i]);
-    if !(p.is_finite() && nrm.is_finite()) || nrm.length_squared() < 0.5 || !(longest > 0.0) {
+    if !(p.is_finite() && nrm.is_finite())
+        || nrm.length_squared() < 0.5
+        || longest.is_nan()
+        || longest <= 0.0
+    {
         return Fit::Interior(0.0);
     }
     let (u, v) = nrm.any_orthonormal_pair();

@@ -366,6 +366,16 @@ impl SceneDesc {
     }
 }
 
+impl InputDesc {
+    /// Every particle input: `cloud`, then the `clouds` list.
+    pub fn paths(&self) -> Vec<&PathBuf> {
+        self.cloud
+            .iter()
+            .chain(self.clouds.iter().flatten())
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -406,15 +416,5 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("line 4") && e.contains("sizes"), "{e}");
-    }
-}
-
-impl InputDesc {
-    /// Every particle input: `cloud`, then the `clouds` list.
-    pub fn paths(&self) -> Vec<&PathBuf> {
-        self.cloud
-            .iter()
-            .chain(self.clouds.iter().flatten())
-            .collect()
     }
 }
