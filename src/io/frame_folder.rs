@@ -201,9 +201,7 @@ fn positions_from_viewer(dir: &Path) -> Result<Columns> {
     }
     let a = decode_floats(&read_file(&tp)?, 4).map_err(|m| format_error(&tp, FORMAT, m))?;
     let mut cols = Columns {
-        positions: (0..a.len)
-            .map(|i| Vec3::new(a.get(i, 0) as f32, a.get(i, 1) as f32, a.get(i, 2) as f32))
-            .collect(),
+        positions: a.vec3s(0),
         ..Columns::default()
     };
     cols.note_positions("tracker_points", "float32");
@@ -211,10 +209,7 @@ fn positions_from_viewer(dir: &Path) -> Result<Columns> {
     if !dir.join("norm_bin").is_file() && tc.is_file() {
         let c = decode_floats(&read_file(&tc)?, 8).map_err(|m| format_error(&tc, FORMAT, m))?;
         if c.len == a.len {
-            let v = (0..c.len)
-                .flat_map(|i| (4..7).map(move |j| (i, j)))
-                .map(|(i, j)| c.get(i, j) as f32)
-                .collect();
+            let v = c.flat3(4);
             cols.push("norm", 3, "float32", v);
         }
     }
@@ -250,9 +245,7 @@ fn read_droplets(dir: &Path, film: &PointCloud) -> Result<Option<CloudPart>> {
         return Ok(None);
     }
     let mut cols = Columns {
-        positions: (0..a.len)
-            .map(|i| Vec3::new(a.get(i, 0) as f32, a.get(i, 1) as f32, a.get(i, 2) as f32))
-            .collect(),
+        positions: a.vec3s(0),
         ..Columns::default()
     };
     cols.note_positions("tracker_points_3d", "float32");

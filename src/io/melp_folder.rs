@@ -88,9 +88,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     if vp.is_file() {
         let v = decode_floats(&read_file(&vp)?, 4).map_err(|m| format_error(&vp, FORMAT, m))?;
         if v.len > 0 {
-            let positions: Vec<Vec3> = (0..v.len)
-                .map(|i| Vec3::new(v.get(i, 0) as f32, v.get(i, 1) as f32, v.get(i, 2) as f32))
-                .collect();
+            let positions: Vec<Vec3> = v.vec3s(0);
             let r = 0.5 * crate::pointcloud::estimate::median_spacing(&positions);
             let r = if r > 0.0 { r } else { 1e-4 };
             let cloud = crate::pointcloud::PointCloud {
@@ -123,9 +121,7 @@ fn read_region(dir: &Path, r: usize, opts: &ReadOptions) -> Result<CloudPart> {
     let a = decode_floats(&read_file(&tp)?, 4).map_err(|m| format_error(&tp, FORMAT, m))?;
     let n = a.len;
     let mut cols = Columns {
-        positions: (0..n)
-            .map(|i| Vec3::new(a.get(i, 0) as f32, a.get(i, 1) as f32, a.get(i, 2) as f32))
-            .collect(),
+        positions: a.vec3s(0),
         ..Columns::default()
     };
     cols.note_positions(&format!("l_tracker_points_{r}"), "float32");
@@ -139,11 +135,7 @@ fn read_region(dir: &Path, r: usize, opts: &ReadOptions) -> Result<CloudPart> {
                 format!("{} circles for {n} particles", c.len),
             ));
         }
-        let v = (0..n)
-            .flat_map(|i| (4..7).map(move |j| (i, j)))
-            .map(|(i, j)| c.get(i, j) as f32)
-            .collect();
-        cols.push("n", 3, "float32", v);
+        cols.push("n", 3, "float32", c.flat3(4));
     }
     for (file, name) in [("l_h_bin", "h"), ("l_origin_bin", "origin")] {
         let p = dir.join(format!("{file}_{r}"));

@@ -40,6 +40,22 @@ impl SimArray {
     pub fn get(&self, i: usize, c: usize) -> f64 {
         self.values[i * self.components + c]
     }
+
+    /// Components `c..c + 3` of every element as vectors (positions at 0, the normal of a
+    /// float circle file at 4). Needs `c + 3 <= components`.
+    pub fn vec3s(&self, c: usize) -> Vec<glam::Vec3> {
+        (0..self.len)
+            .map(|i| {
+                let f = |k: usize| self.get(i, c + k) as f32;
+                glam::Vec3::new(f(0), f(1), f(2))
+            })
+            .collect()
+    }
+
+    /// Components `c..c + 3` of every element, flat (x y z x y z ...), as f32.
+    pub fn flat3(&self, c: usize) -> Vec<f32> {
+        self.vec3s(c).iter().flat_map(|v| v.to_array()).collect()
+    }
 }
 
 /// Decodes an element-layout file (`u32` n, then n elements). `expect` is the element count
