@@ -268,20 +268,8 @@ fn read_droplets(dir: &Path, film: &PointCloud) -> Result<Option<CloudPart>> {
         }
         cols.push(name, k, "float64", v);
     }
-    let none = ReadOptions {
-        thickness_attr: None,
-        normal_attr: None,
-        radius_attr: None,
-        ..ReadOptions::default()
-    };
-    let droplet_aliases = Aliases {
-        thickness: &[],
-        normal: &[],
-        radius: &[],
-        default_scale_to_nm: 1e9,
-    };
     let (mut cloud, stored) = cols
-        .into_cloud(&none, &droplet_aliases)
+        .into_cloud(&ReadOptions::default(), &NO_ROLES)
         .map_err(|m| format_error(dir, FORMAT, m))?;
     let (r, note) = droplet_radius(dir, film, &cloud.positions);
     cloud.radius = Some(vec![r; cloud.len()]);
@@ -293,6 +281,22 @@ fn read_droplets(dir: &Path, film: &PointCloud) -> Result<Option<CloudPart>> {
         notes: vec![note],
     }))
 }
+
+/// The droplet radius when the files give no volume: half the droplets' median spacing
+/// (1e-4 scene units if they have none).
+pub(crate) fn spacing_radius(droplets: &[Vec3]) -> f32 {
+    let r = 0.5 * crate::pointcloud::estimate::median_spacing(droplets);
+    if r > 0.0 { r } else { 1e-4 }
+}
+
+/// Aliases that map nothing: every attribute of a droplet set is an extra (its radius is
+/// derived, not read).
+pub(crate) const NO_ROLES: Aliases = Aliases {
+    thickness: &[],
+    normal: &[],
+    radius: &[],
+    default_scale_to_nm: 1e9,
+};
 
 /// Radius of a sphere of volume `v`.
 pub fn volume_radius(v: f64) -> f64 {
@@ -343,8 +347,7 @@ pub fn droplet_radius(dir: &Path, film: &PointCloud, droplets: &[Vec3]) -> (f32,
             ),
         );
     }
-    let r = 0.5 * crate::pointcloud::estimate::median_spacing(droplets);
-    let r = if r > 0.0 { r } else { 1e-4 };
+    let r = spacing_radius(droplets);
     (
         r,
         format!(

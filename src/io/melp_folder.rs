@@ -89,8 +89,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
         let v = decode_floats(&read_file(&vp)?, 4).map_err(|m| format_error(&vp, FORMAT, m))?;
         if v.len > 0 {
             let positions: Vec<Vec3> = v.vec3s(0);
-            let r = 0.5 * crate::pointcloud::estimate::median_spacing(&positions);
-            let r = if r > 0.0 { r } else { 1e-4 };
+            let r = super::frame_folder::spacing_radius(&positions);
             let cloud = crate::pointcloud::PointCloud {
                 radius: Some(vec![r; positions.len()]),
                 positions,

@@ -25,7 +25,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::columns::{Aliases, Columns};
-use super::frame_folder::{WATER_DENSITY, volume_radius};
+use super::frame_folder::{NO_ROLES, WATER_DENSITY, spacing_radius, volume_radius};
 use super::sim_arrays::{SimArray, decode_elements};
 use super::{CloudPart, PartKind, RADIUS_ALIASES, ReadOptions, format_error, read_file};
 use crate::error::{Error, Result};
@@ -57,17 +57,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     )];
     let d3 = dir.join("3d");
     if d3.join("x.bin").is_file() {
-        let none = ReadOptions::default();
-        let (mut cloud, stored) = read_set(
-            &d3,
-            &none,
-            &Aliases {
-                thickness: &[],
-                normal: &[],
-                radius: &[],
-                default_scale_to_nm: 1e9,
-            },
-        )?;
+        let (mut cloud, stored) = read_set(&d3, &ReadOptions::default(), &NO_ROLES)?;
         if !cloud.is_empty() {
             let note = match cloud.extra("m") {
                 Some(m) => {
@@ -82,8 +72,8 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
                     )
                 }
                 None => {
-                    let r = 0.5 * crate::pointcloud::estimate::median_spacing(&cloud.positions);
-                    cloud.radius = Some(vec![r.max(1e-6); cloud.len()]);
+                    let r = spacing_radius(&cloud.positions);
+                    cloud.radius = Some(vec![r; cloud.len()]);
                     format!(
                         "droplets: no m.bin; spheres of half the median droplet spacing, radius {r:.3e}"
                     )
