@@ -62,10 +62,10 @@ impl Tracer<'_> {
         // Inside: from the entry point to the far side, again and again.
         let mut inner = 1.0 - f;
         let mut origin = p;
+        let (c, _) = drops.sphere(hit.index);
         for k in 0..MAX_INNER {
             let s = drops.exit_distance(hit.index, origin, dir);
             let q = origin + dir * s;
-            let (c, _) = drops.sphere(hit.index);
             let out_n = (q - c).normalize_or_zero();
             let cos = dir.dot(out_n).clamp(0.0, 1.0);
             let f_in = dielectric_reflectance(cos, ior, 1.0);
