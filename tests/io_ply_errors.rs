@@ -196,7 +196,9 @@ fn missing_files_and_directories() {
         );
         let m = e.to_string();
         assert!(m.contains(want) && !m.contains('\n'), "{m}");
-        let e = filmsplat::io::ply::read(&p, &ReadOptions::default()).unwrap_err();
+        let e =
+            filmsplat::io::read_as(filmsplat::io::CloudFormat::Ply, &p, &ReadOptions::default())
+                .unwrap_err();
         assert!(e.to_string().contains(want), "{e}");
     }
 }

@@ -448,7 +448,8 @@ fn every_truncation_is_an_error() {
             .rposition(|w| w == b"</VTKFile>")
             .unwrap();
         for cut in (0..close).step_by(5) {
-            let r = filmsplat::io::vtu::read_bytes(
+            let r = filmsplat::io::read_bytes(
+                CloudFormat::VtkXml,
                 &full[..cut],
                 Path::new("cut.vtu"),
                 &ReadOptions::default(),

@@ -2,13 +2,13 @@
 //! goes through validation and repair, which must not panic on whatever values it holds.
 #![no_main]
 
-use filmsplat::io::{ReadOptions, bgeo};
+use filmsplat::io::{CloudFormat, ReadOptions, read_bytes};
 use filmsplat::pointcloud::{repair, validate};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(mut cloud) = bgeo::read_bytes(data, Path::new("fuzz.bgeo"), &ReadOptions::default()) {
+    if let Ok(mut cloud) = read_bytes(CloudFormat::Bgeo, data, Path::new("fuzz.bgeo"), &ReadOptions::default()).map(|(c, _)| c) {
         let _ = validate(&cloud);
         let _ = repair(&mut cloud);
     }

@@ -5,7 +5,7 @@
 //! most what the header declares).
 #![no_main]
 
-use filmsplat::io::{ReadOptions, bgeo};
+use filmsplat::io::{CloudFormat, ReadOptions, read_bytes};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
@@ -13,7 +13,7 @@ fuzz_target!(|deflate: &[u8]| {
     let mut gz = vec![0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 0xff];
     gz.extend_from_slice(deflate);
     gz.extend_from_slice(&[0; 8]); // CRC and size: wrong, so only a prefix can ever be read
-    if let Ok(cloud) = bgeo::read_bytes(&gz, Path::new("fuzz.bgeo.gz"), &ReadOptions::default()) {
+    if let Ok(cloud) = read_bytes(CloudFormat::Bgeo, &gz, Path::new("fuzz.bgeo.gz"), &ReadOptions::default()).map(|(c, _)| c) {
         // 16 bytes a point at least: the inflated points cannot exceed the deflate ratio.
         assert!(cloud.positions.len() as u64 <= (gz.len() as u64 * 1100 + 1024) / 16);
     }

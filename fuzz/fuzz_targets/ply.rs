@@ -2,13 +2,13 @@
 //! goes through validation and repair, which must not panic on whatever values it holds.
 #![no_main]
 
-use filmsplat::io::{ReadOptions, ply};
+use filmsplat::io::{CloudFormat, ReadOptions, read_bytes};
 use filmsplat::pointcloud::{repair, validate};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(mut cloud) = ply::read_bytes(data, Path::new("fuzz.ply"), &ReadOptions::default()) {
+    if let Ok(mut cloud) = read_bytes(CloudFormat::Ply, data, Path::new("fuzz.ply"), &ReadOptions::default()).map(|(c, _)| c) {
         let _ = validate(&cloud);
         let _ = repair(&mut cloud);
     }

@@ -3,7 +3,7 @@
 //! a fixed file. Never a panic; a block inflates only into the size its header declares.
 #![no_main]
 
-use filmsplat::io::{ReadOptions, vtu};
+use filmsplat::io::{CloudFormat, ReadOptions, read_bytes};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
@@ -28,7 +28,7 @@ fuzz_target!(|data: &[u8]| {
     }
     b.extend_from_slice(block);
     b.extend_from_slice(b"\n</AppendedData>\n</VTKFile>\n");
-    if let Ok(cloud) = vtu::read_bytes(&b, Path::new("fuzz.vtu"), &ReadOptions::default()) {
+    if let Ok(cloud) = read_bytes(CloudFormat::VtkXml, &b, Path::new("fuzz.vtu"), &ReadOptions::default()).map(|(c, _)| c) {
         assert_eq!(cloud.positions.len() as u32, points);
     }
 });

@@ -19,60 +19,36 @@
 //! memory allowance ([`crate::budget`]).
 
 use std::io::Read;
-use std::path::Path;
 
 use glam::Vec3;
 
+use super::ReadOptions;
 use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::num::Num;
-use super::{ReadOptions, format_error, read_file};
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
 
-/// Name used in error messages.
-const FORMAT: &str = "BGEO";
-
-/// Reads the BGEO file at `path` into a [`PointCloud`] (see the module docs).
+/// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
+/// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
+/// check the options and name the file in errors.
 ///
 /// Cost: reads the file into memory (inflating gzip only up to the declared points), then one
 /// pass over the points; peak memory is the file, the inflated header and points, and the
 /// cloud.
 ///
 /// # Errors
-/// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
-/// and the byte offset (in the decompressed data) for corrupt gzip, a wrong magic or version,
-/// malformed attribute definitions, unsupported attribute types, truncated point data, or an
-/// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
-pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    opts.check()?;
-    read_bytes(&read_file(path)?, path, opts)
-}
-
-/// Reads a BGEO file's content (plain or gzip) already in memory, as [`read`] does; `path` only
-/// names the source in errors. Never panics, whatever the bytes.
-///
-/// # Errors
-/// As [`read`], without the I/O errors.
-pub fn read_bytes(raw: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_bytes_described(raw, path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_bytes_described(
+/// A message naming the byte offset (in the decompressed data) for corrupt gzip, a wrong magic or version, malformed attribute definitions, unsupported attribute types, truncated point data, or an attribute named in `opts` that is missing.
+pub(crate) fn parse(
     raw: &[u8],
-    path: &Path,
     opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    opts.check()?;
+) -> Result<(PointCloud, Vec<StoredAttribute>), String> {
     let bytes = if raw.starts_with(&[0x1f, 0x8b]) {
-        std::borrow::Cow::Owned(inflate(raw).map_err(|m| format_error(path, FORMAT, m))?)
+        std::borrow::Cow::Owned(inflate(raw)?)
     } else {
         std::borrow::Cow::Borrowed(raw)
     };
-    parse(&bytes)
-        .and_then(|c| c.into_cloud(opts, &STANDARD))
-        .map_err(|m| format_error(path, FORMAT, m))
+    columns(&bytes)?.into_cloud(opts, &STANDARD)
 }
 
 /// The header of a gzip-compressed file may take at most this many inflated bytes (its
@@ -276,7 +252,7 @@ fn header(b: &[u8]) -> Result<Header, String> {
 }
 
 /// Parses the decompressed file into columns.
-fn parse(b: &[u8]) -> Result<Columns, String> {
+fn columns(b: &[u8]) -> Result<Columns, String> {
     let Header {
         n,
         attrs,

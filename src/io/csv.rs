@@ -8,52 +8,27 @@
 //! Blank lines and lines starting with `#` are skipped; every record must have one number per
 //! column. Memory grows with the data actually present, never with a declared count.
 
-use std::path::Path;
-
 use glam::Vec3;
 
+use super::ReadOptions;
 use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
-use super::{ReadOptions, format_error, read_file};
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
 
-/// Name used in error messages.
-const FORMAT: &str = "CSV";
-
-/// Reads the delimited text file at `path` into a [`PointCloud`] (see the module docs).
+/// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
+/// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
+/// check the options and name the file in errors.
 ///
 /// Cost: reads the file into memory, then one pass; about 20–40 ns per value.
 ///
 /// # Errors
-/// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
-/// and the line for an empty file, a header without `x y z` or with repeated names, a record
-/// with the wrong number of fields, a field that is not a number, or an attribute named in
-/// `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
-pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    opts.check()?;
-    read_bytes(&read_file(path)?, path, opts)
-}
-
-/// Reads a CSV/XYZ file's content already in memory, as [`read`] does; `path` only names the
-/// source in errors. Never panics, whatever the bytes.
-///
-/// # Errors
-/// As [`read`], without the I/O errors.
-pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_bytes_described(bytes, path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_bytes_described(
+/// A message naming the line for an empty file, a header without `x y z` or with repeated names, a record with the wrong number of fields, a field that is not a number, or an attribute named in `opts` that is missing.
+pub(crate) fn parse(
     bytes: &[u8],
-    path: &Path,
     opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    opts.check()?;
-    parse(bytes)
-        .and_then(|c| c.into_cloud(opts, &STANDARD))
-        .map_err(|m| format_error(path, FORMAT, m))
+) -> Result<(PointCloud, Vec<StoredAttribute>), String> {
+    columns(bytes)?.into_cloud(opts, &STANDARD)
 }
 
 #[derive(Clone, Copy)]
@@ -71,7 +46,7 @@ fn fields(line: &str, sep: Sep) -> Vec<&str> {
     }
 }
 
-fn parse(b: &[u8]) -> Result<Columns, String> {
+fn columns(b: &[u8]) -> Result<Columns, String> {
     let text = std::str::from_utf8(b).map_err(|e| {
         let line = b[..e.valid_up_to()].iter().filter(|&&c| c == b'\n').count() + 1;
         format!("line {line}: not UTF-8 text")

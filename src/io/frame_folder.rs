@@ -92,6 +92,14 @@ pub fn read_described(
     opts: &ReadOptions,
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     opts.check()?;
+    read_checked(dir, opts)
+}
+
+/// [`read_described`] with `opts` already checked (by [`crate::io::read_cloud`]).
+pub(crate) fn read_checked(
+    dir: &Path,
+    opts: &ReadOptions,
+) -> Result<(PointCloud, Vec<StoredAttribute>)> {
     let meta = std::fs::metadata(dir).map_err(|e| Error::io(dir, e))?;
     if !meta.is_dir() {
         return Err(format_error(dir, FORMAT, "not a directory"));

@@ -1,16 +1,16 @@
-//! Readers: particle files in, [`PointCloud`] out.
+//! Readers: particle files in, [`PointCloud`](crate::pointcloud::PointCloud) out.
 //!
 //! [`read_cloud`] picks the reader ([`detect_format`]) from the file's first bytes (magic),
 //! else its extension, or for a directory its content, and every reader fills the same
-//! [`PointCloud`]:
+//! [`PointCloud`](crate::pointcloud::PointCloud):
 //!
 //! | format | reader | thickness unit by default |
 //! |---|---|---|
-//! | PLY (ASCII, binary LE/BE) | [`ply::read`] | nm |
-//! | VTK legacy `.vtk` (ASCII, binary) | [`vtk::read`] | nm |
-//! | VTK XML `.vtu`/`.vtp` (ascii, base64, appended raw/base64, zlib) | [`vtu::read`] | nm |
-//! | Houdini BGEO V5 `.bgeo` (plain or gzip) | [`bgeo::read`] | nm |
-//! | CSV / XYZ text with a header line | [`csv::read`] | nm |
+//! | PLY (ASCII, binary LE/BE) | [`ply`] | nm |
+//! | VTK legacy `.vtk` (ASCII, binary) | [`vtk`] | nm |
+//! | VTK XML `.vtu`/`.vtp` (ascii, base64, appended raw/base64, zlib) | [`vtu`] | nm |
+//! | Houdini BGEO V5 `.bgeo` (plain or gzip) | [`bgeo`] | nm |
+//! | CSV / XYZ text with a header line | [`csv`] | nm |
 //! | thin-film SPH frame folder (`x_bin`, `norm_bin`, `rh_bin`, ...) | [`frame_folder::read`] | m |
 //!
 //! Attribute names: positions are the format's positions (`x y z`, `POINTS`, `P`, `x_bin`).
@@ -19,7 +19,7 @@
 //! the format's alias lists ([`NORMAL_ALIASES`], [`THICKNESS_ALIASES`], [`RADIUS_ALIASES`];
 //! frame folders use [`FRAME_NORMAL_ALIASES`] and [`FRAME_THICKNESS_ALIASES`]), unless
 //! [`ReadOptions`] names them explicitly (then a missing name is an error). Every other
-//! scalar attribute lands in [`PointCloud::extra`] as f32. Readers do not validate values.
+//! scalar attribute lands in [`PointCloud::extra`](crate::pointcloud::PointCloud::extra) as f32. Readers do not validate values.
 //!
 //! Triangle meshes (for comparing with meshed renders) are read by [`read_mesh`]: PLY with a
 //! `face` element ([`ply::read_mesh`]; vertex attributes by the same aliases) or OBJ
@@ -42,6 +42,7 @@ mod parts;
 mod peek;
 pub mod ply;
 pub mod pvd;
+mod read;
 pub mod sim_arrays;
 pub mod snapshot;
 mod sources;
@@ -53,13 +54,13 @@ mod xml;
 pub use obj::read_mesh;
 pub use parts::{CloudPart, PartKind, read_parts};
 pub use peek::{CountHint, peek_count};
+pub use read::{read_as, read_bytes, read_cloud, read_cloud_described};
 pub use write_ply::{write_mesh_ply, write_ply};
 
 use std::io::Read;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::pointcloud::PointCloud;
 
 /// Thickness attribute names tried in order: `rh` (film thickness), `thickness`, `h`.
 /// Beware that SPH files often use `h` for the smoothing length; name the attribute
@@ -152,15 +153,15 @@ impl ReadOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum CloudFormat {
-    /// Stanford PLY (ASCII or binary), read by [`ply::read`].
+    /// Stanford PLY (ASCII or binary), read by [`ply`].
     Ply,
-    /// VTK legacy `.vtk` (ASCII or binary), read by [`vtk::read`].
+    /// VTK legacy `.vtk` (ASCII or binary), read by [`vtk`].
     VtkLegacy,
-    /// VTK XML `.vtu` / `.vtp`, read by [`vtu::read`].
+    /// VTK XML `.vtu` / `.vtp`, read by [`vtu`].
     VtkXml,
-    /// Houdini classic BGEO (V5), plain or gzip-compressed, read by [`bgeo::read`].
+    /// Houdini classic BGEO (V5), plain or gzip-compressed, read by [`bgeo`].
     Bgeo,
-    /// Delimited text with a header line naming the columns, read by [`csv::read`].
+    /// Delimited text with a header line naming the columns, read by [`csv`].
     Csv,
     /// A directory of `*_bin` files (`x_bin`, `norm_bin`, `rh_bin`, ...), read by
     /// [`frame_folder::read`]; with the droplets of a ruptured film (`*_3d`) as a second part.
@@ -229,7 +230,7 @@ fn by_extension(path: &Path) -> Option<CloudFormat> {
 
 /// The format told by a file's first bytes (inflating the start of gzip data), else by the
 /// extension of `path`.
-fn by_content(head: &[u8], path: &Path) -> Result<CloudFormat> {
+pub(crate) fn by_content(head: &[u8], path: &Path) -> Result<CloudFormat> {
     let unknown = |message: String| Error::Format {
         path: path.to_path_buf(),
         format: "particle file",
@@ -322,81 +323,6 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
     by_content(&head, path)
 }
 
-/// A stream's first bytes are acceptable if they (or the path's extension) name a format.
-fn stream_head_ok(path: &Path) -> impl Fn(&[u8]) -> std::result::Result<(), String> + '_ {
-    move |head: &[u8]| {
-        by_content(head, path).map(|_| ()).map_err(|e| match e {
-            Error::Format { message, .. } if message.starts_with("gzip-compressed") => message,
-            _ => "its first bytes are not PLY, VTK, VTK XML or BGEO (a pipe's format is told \
-                  from its content)"
-                .to_string(),
-        })
-    }
-}
-
-/// Reads a particle file (or frame folder) of any supported format (see [`detect_format`]).
-/// Standard input (`-`) and pipes are read once into memory (at most
-/// [`input::STREAM_LIMIT_BYTES`]) and their format is told from their first bytes.
-///
-/// Cost: about the cost of reading the file's bytes (plus inflating them if compressed).
-///
-/// # Errors
-/// As [`detect_format`] and the format's reader: every error names the file, the format and
-/// the problem.
-pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    if input::is_stream(path) {
-        return read_cloud_described(path, opts).map(|(c, _)| c);
-    }
-    match detect_format(path)? {
-        CloudFormat::Ply => ply::read(path, opts),
-        CloudFormat::VtkLegacy => vtk::read(path, opts),
-        CloudFormat::VtkXml => vtu::read(path, opts),
-        CloudFormat::Bgeo => bgeo::read(path, opts),
-        CloudFormat::Csv => csv::read(path, opts),
-        CloudFormat::FrameFolder => frame_folder::read(path, opts),
-        _ => read_cloud_described(path, opts).map(|(c, _)| c),
-    }
-}
-
-/// Reads a particle file like [`read_cloud`] and also says what the file stores: every
-/// attribute with its stored type and what filmsplat read it as (for `filmsplat info`).
-pub fn read_cloud_described(
-    path: &Path,
-    opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    type Whole = fn(&[u8], &Path, &ReadOptions) -> Result<(PointCloud, Vec<StoredAttribute>)>;
-    let of = |f: CloudFormat| -> Option<Whole> {
-        match f {
-            CloudFormat::Ply => Some(ply::read_bytes_described),
-            CloudFormat::FrameFolder
-            | CloudFormat::SnapshotFolder
-            | CloudFormat::MelpFolder
-            | CloudFormat::Pvd => None,
-            CloudFormat::VtkLegacy => Some(vtk::read_bytes_described),
-            CloudFormat::VtkXml => Some(vtu::read_bytes_described),
-            CloudFormat::Bgeo => Some(bgeo::read_bytes_described),
-            CloudFormat::Csv => Some(csv::read_bytes_described),
-        }
-    };
-    opts.check()?;
-    if input::is_stream(path) {
-        let bytes = input::read_all(path, &stream_head_ok(path))?;
-        let format = by_content(&bytes, path)?;
-        let whole = of(format).ok_or_else(|| format_error(path, "input", "not a folder"))?;
-        return whole(&bytes, path, opts);
-    }
-    // Formats read whole from memory share one path: the file's bytes, then the reader.
-    let whole = match detect_format(path)? {
-        CloudFormat::Ply => return ply::read_described(path, opts),
-        CloudFormat::FrameFolder => return frame_folder::read_described(path, opts),
-        CloudFormat::SnapshotFolder | CloudFormat::MelpFolder | CloudFormat::Pvd => {
-            return Ok(parts::film_of(read_parts(path, opts)?));
-        }
-        f => of(f).expect("a file format"),
-    };
-    whole(&read_file(path)?, path, opts)
-}
-
 /// What filmsplat reads a stored attribute as.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AttributeRole {
@@ -408,7 +334,7 @@ pub enum AttributeRole {
     Thickness,
     /// Splat radius.
     Radius,
-    /// Kept as an extra attribute ([`PointCloud::extra`]).
+    /// Kept as an extra attribute ([`PointCloud::extra`](crate::pointcloud::PointCloud::extra)).
     Extra,
     /// Not read (e.g. a PLY list property).
     Skipped,
@@ -458,7 +384,7 @@ impl StoredAttribute {
 }
 
 /// The scalar columns a `k`-component attribute `name` is split into (`name`, or
-/// `name_x name_y name_z`, or `name_0 ..`): the names of its [`PointCloud::extra`] entries.
+/// `name_x name_y name_z`, or `name_0 ..`): the names of its [`PointCloud::extra`](crate::pointcloud::PointCloud::extra) entries.
 pub fn component_names(name: &str, k: usize) -> Vec<String> {
     columns::component_names(name, k)
 }

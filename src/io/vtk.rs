@@ -9,53 +9,28 @@
 //! 4; `bit` arrays are rejected. The whole file is read into memory first; every count is
 //! checked against the bytes left before anything is allocated.
 
-use std::path::Path;
-
 use glam::Vec3;
 
+use super::ReadOptions;
 use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::num::Num;
-use super::{ReadOptions, format_error, read_file};
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
 
-/// Name used in error messages.
-const FORMAT: &str = "VTK legacy";
-
-/// Reads the VTK legacy file at `path` into a [`PointCloud`] (see the module docs).
+/// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
+/// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
+/// check the options and name the file in errors.
 ///
 /// Cost: reads the file into memory, then one pass; peak memory is the file plus the cloud.
 ///
 /// # Errors
-/// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
-/// and the line (ASCII) or byte offset (binary) for a malformed or truncated file, an
-/// unsupported dataset or type, or an attribute named in `opts` that is missing;
-/// [`crate::Error::Invalid`] for a bad option.
-pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    opts.check()?;
-    read_bytes(&read_file(path)?, path, opts)
-}
-
-/// Reads a VTK legacy file's content already in memory, as [`read`] does; `path` only names the
-/// source in errors. Never panics, whatever the bytes.
-///
-/// # Errors
-/// As [`read`], without the I/O errors.
-pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_bytes_described(bytes, path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_bytes_described(
+/// A message naming the line (ASCII) or byte offset (binary) for a malformed or truncated file, an unsupported dataset or type, or an attribute named in `opts` that is missing.
+pub(crate) fn parse(
     bytes: &[u8],
-    path: &Path,
     opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    opts.check()?;
-    parse(bytes)
-        .and_then(|c| c.into_cloud(opts, &STANDARD))
-        .map_err(|m| format_error(path, FORMAT, m))
+) -> Result<(PointCloud, Vec<StoredAttribute>), String> {
+    columns(bytes)?.into_cloud(opts, &STANDARD)
 }
 
 /// Where the following data goes.
@@ -219,7 +194,7 @@ fn num_type(name: &str) -> Option<Num> {
 }
 
 /// Parses the whole file into columns.
-fn parse(b: &[u8]) -> Result<Columns, String> {
+fn columns(b: &[u8]) -> Result<Columns, String> {
     let mut c = Cur {
         b,
         pos: 0,

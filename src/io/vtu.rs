@@ -10,60 +10,36 @@
 
 use std::borrow::Cow;
 use std::ops::Range;
-use std::path::Path;
 
 use glam::Vec3;
 
+use super::ReadOptions;
 use super::StoredAttribute;
 use super::columns::{Columns, STANDARD, show};
 use super::melp;
 use super::num::Num;
 use super::sources::{Base64, Raw, Source};
 use super::xml::Scanner;
-use super::{ReadOptions, format_error, read_file};
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
-
-/// Name used in error messages.
-const FORMAT: &str = "VTK XML";
 
 /// Largest ratio of inflated to deflated bytes zlib can reach (with a margin).
 const MAX_ZLIB_RATIO: u64 = 1100;
 
-/// Reads the VTK XML file at `path` into a [`PointCloud`] (see the module docs).
+/// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
+/// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
+/// check the options and name the file in errors.
 ///
 /// Cost: reads the file into memory, then one pass (plus inflating compressed arrays); peak
 /// memory is the file plus the cloud plus one decoded array.
 ///
 /// # Errors
-/// [`crate::Error::Io`] if the file cannot be read; [`crate::Error::Format`] naming the file
-/// and the array or byte offset for malformed XML, unsupported dataset types, encodings or
-/// compressors, sizes that disagree with `NumberOfPoints`, truncated or corrupt data, or an
-/// attribute named in `opts` that is missing; [`crate::Error::Invalid`] for a bad option.
-pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    opts.check()?;
-    read_bytes(&read_file(path)?, path, opts)
-}
-
-/// Reads a VTK XML file's content already in memory, as [`read`] does; `path` only names the
-/// source in errors. Never panics, whatever the bytes.
-///
-/// # Errors
-/// As [`read`], without the I/O errors.
-pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_bytes_described(bytes, path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
-pub fn read_bytes_described(
+/// A message naming the array or byte offset for malformed XML, unsupported dataset types, encodings or compressors, sizes that disagree with `NumberOfPoints`, truncated or corrupt data, or an attribute named in `opts` that is missing.
+pub(crate) fn parse(
     bytes: &[u8],
-    path: &Path,
     opts: &ReadOptions,
-) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    opts.check()?;
-    parse(bytes)
-        .and_then(|c| into_cloud(c, opts))
-        .map_err(|m| format_error(path, FORMAT, m))
+) -> Result<(PointCloud, Vec<StoredAttribute>), String> {
+    into_cloud(columns(bytes)?, opts)
 }
 
 /// Maps the columns to a cloud, as MELP's writers meant them when the arrays are theirs
@@ -144,7 +120,7 @@ enum Ctx {
 }
 
 /// Parses the file into columns.
-fn parse(b: &[u8]) -> Result<Columns, String> {
+fn columns(b: &[u8]) -> Result<Columns, String> {
     if b.is_empty() {
         return Err("empty file".into());
     }

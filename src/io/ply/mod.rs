@@ -34,25 +34,21 @@ use crate::pointcloud::{PointCloud, TriangleMesh};
 /// Name used in error messages.
 const FORMAT: &str = "PLY";
 
-/// Reads the PLY file at `path` into a [`PointCloud`] (see the module docs for what is read).
+/// Reads the PLY file at `path` (streamed in 1 MiB chunks) into a [`PointCloud`] and every
+/// vertex property with its type and role ([`StoredAttribute`]s); `opts` are checked by the
+/// caller, [`crate::io::read_cloud`] or [`crate::io::read_as`] (see the module docs for what is
+/// read).
 ///
 /// Cost: one pass over the file; peak memory is the cloud plus a 1 MiB buffer.
 ///
 /// # Errors
 /// [`Error::Io`] if the file cannot be opened or read (missing, a directory, ...);
 /// [`Error::Format`] naming the file and the problem for a malformed file or a missing or
-/// ill-typed attribute; [`Error::Invalid`] for a bad option.
-pub fn read(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    read_described(path, opts).map(|(c, _)| c)
-}
-
-/// Like [`read`], and also returns what the file stores: every vertex property with its type
-/// and role ([`StoredAttribute`]s).
-pub fn read_described(
+/// ill-typed attribute.
+pub(crate) fn read_file(
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    opts.check()?;
     with_file(path, |file, len| read_from(file, len, opts))
 }
 
@@ -96,28 +92,13 @@ fn fail_to_error(path: &Path, f: Fail) -> Error {
     }
 }
 
-/// Reads a PLY file's content already in memory, as [`read`] does; `path` only names the
-/// source in errors. Never panics, whatever the bytes.
-///
-/// # Errors
-/// As [`read`], without the I/O errors.
-pub fn read_bytes(bytes: &[u8], path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
-    opts.check()?;
-    read_from(bytes, Some(bytes.len() as u64), opts)
-        .map(|(c, _)| c)
-        .map_err(|f| fail_to_error(path, f))
-}
-
-/// Like [`read_bytes`], and also returns what the file stores ([`StoredAttribute`]s).
-///
-/// # Errors
-/// As [`read_bytes`].
-pub fn read_bytes_described(
+/// [`read_file`] for a file's content already in memory; `path` only names the source in
+/// errors. Never panics, whatever the bytes.
+pub(crate) fn parse_bytes(
     bytes: &[u8],
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<(PointCloud, Vec<StoredAttribute>)> {
-    opts.check()?;
     read_from(bytes, Some(bytes.len() as u64), opts).map_err(|f| fail_to_error(path, f))
 }
 

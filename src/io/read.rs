@@ -1,0 +1,125 @@
+//! The one shell every particle reader shares: options checked once, the file's bytes (or a
+//! pipe's) read once, the format picked, then that format's parse function. The formats
+//! themselves (`ply`, `vtk`, `vtu`, `bgeo`, `csv`) only parse.
+
+use std::path::Path;
+
+use super::{
+    CloudFormat, ReadOptions, StoredAttribute, bgeo, by_content, csv, detect_format, format_error,
+    frame_folder, input, parts, ply, read_file, read_parts, vtk, vtu,
+};
+use crate::error::Result;
+use crate::pointcloud::PointCloud;
+
+/// A cloud and what its file stores.
+type Described = (PointCloud, Vec<StoredAttribute>);
+
+/// A format's parse of a whole file in memory: the cloud and what the file stores, or what is
+/// wrong (without the file's name, which the shell adds). Options are already checked.
+type Parse = fn(&[u8], &ReadOptions) -> std::result::Result<Described, String>;
+
+/// The parse of a format read whole from memory; `None` for folders and collections.
+fn parse_of(format: CloudFormat) -> Option<Parse> {
+    match format {
+        CloudFormat::VtkLegacy => Some(vtk::parse),
+        CloudFormat::VtkXml => Some(vtu::parse),
+        CloudFormat::Bgeo => Some(bgeo::parse),
+        CloudFormat::Csv => Some(csv::parse),
+        CloudFormat::Ply
+        | CloudFormat::FrameFolder
+        | CloudFormat::SnapshotFolder
+        | CloudFormat::MelpFolder
+        | CloudFormat::Pvd => None,
+    }
+}
+
+/// Reads a particle file (or frame folder) of any supported format (see [`detect_format`]).
+/// Standard input (`-`) and pipes are read once into memory (at most
+/// [`input::STREAM_LIMIT_BYTES`]) and their format is told from their first bytes.
+///
+/// Cost: about the cost of reading the file's bytes (plus inflating them if compressed).
+///
+/// # Errors
+/// As [`detect_format`] and the format's reader: every error names the file, the format and
+/// the problem.
+pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
+    read_cloud_described(path, opts).map(|(c, _)| c)
+}
+
+/// Reads a particle file like [`read_cloud`] and also says what the file stores: every
+/// attribute with its stored type and what filmsplat read it as (for `filmsplat info`).
+pub fn read_cloud_described(path: &Path, opts: &ReadOptions) -> Result<Described> {
+    opts.check()?;
+    if input::is_stream(path) {
+        let bytes = input::read_all(path, &stream_head_ok(path))?;
+        let format = by_content(&bytes, path)?;
+        return parse_bytes(format, &bytes, path, opts);
+    }
+    read_checked(detect_format(path)?, path, opts)
+}
+
+/// Reads the file (or folder) at `path` as `format`, without looking at its content to pick
+/// one: for a caller that knows the format (a test of one reader, a fuzzer).
+///
+/// # Errors
+/// As [`read_cloud`].
+pub fn read_as(format: CloudFormat, path: &Path, opts: &ReadOptions) -> Result<Described> {
+    opts.check()?;
+    read_checked(format, path, opts)
+}
+
+/// Reads a particle file's content already in memory as `format`; `path` only names the source
+/// in errors. Never panics, whatever the bytes.
+///
+/// # Errors
+/// As [`read_cloud`], without the I/O errors; [`crate::Error::Format`] for a folder format.
+pub fn read_bytes(
+    format: CloudFormat,
+    bytes: &[u8],
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<Described> {
+    opts.check()?;
+    parse_bytes(format, bytes, path, opts)
+}
+
+/// [`read_as`] with the options checked.
+fn read_checked(format: CloudFormat, path: &Path, opts: &ReadOptions) -> Result<Described> {
+    match format {
+        // PLY streams from the file in chunks instead of reading it whole.
+        CloudFormat::Ply => ply::read_file(path, opts),
+        CloudFormat::FrameFolder => frame_folder::read_checked(path, opts),
+        CloudFormat::SnapshotFolder | CloudFormat::MelpFolder | CloudFormat::Pvd => {
+            Ok(parts::film_of(read_parts(path, opts)?))
+        }
+        f => parse_bytes(f, &read_file(path)?, path, opts),
+    }
+}
+
+/// [`read_bytes`] with the options checked.
+fn parse_bytes(
+    format: CloudFormat,
+    bytes: &[u8],
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<Described> {
+    if format == CloudFormat::Ply {
+        return ply::parse_bytes(bytes, path, opts);
+    }
+    let parse = parse_of(format).ok_or_else(|| format_error(path, "input", "not a folder"))?;
+    parse(bytes, opts).map_err(|m| format_error(path, format.name(), m))
+}
+
+/// A stream's first bytes are acceptable if they (or the path's extension) name a format.
+fn stream_head_ok(path: &Path) -> impl Fn(&[u8]) -> std::result::Result<(), String> + '_ {
+    move |head: &[u8]| {
+        by_content(head, path).map(|_| ()).map_err(|e| match e {
+            crate::Error::Format { message, .. } if message.starts_with("gzip-compressed") => {
+                message
+            }
+            _ => "its first bytes are not PLY, VTK, VTK XML or BGEO (a pipe's format is told \
+                  from its content)"
+                .to_string(),
+        })
+    }
+}
