@@ -3,7 +3,6 @@
 use crate::arrays::{scalars, to_numpy, vec3s, vec3s_to_numpy};
 use crate::errors::to_py;
 use filmsplat::io::{ReadOptions, read_cloud};
-use filmsplat::pipeline::thickness_unit_factor;
 use filmsplat::pointcloud::PointCloud;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -145,16 +144,14 @@ pub fn read(
     normal_attr: Option<String>,
     radius_attr: Option<String>,
 ) -> PyResult<Cloud> {
-    let mut opts = ReadOptions {
+    let opts = ReadOptions {
         thickness_attr,
         normal_attr,
         radius_attr,
         ..ReadOptions::default()
-    };
-    if let Some(unit) = thickness_unit.as_deref() {
-        opts.thickness_scale_to_nm = thickness_unit_factor(unit).map_err(to_py)?;
-        opts.thickness_unit_explicit = true;
     }
+    .with_unit(thickness_unit.as_deref())
+    .map_err(to_py)?;
     let cloud = py.detach(|| read_cloud(&path, &opts)).map_err(to_py)?;
     Ok(Cloud { cloud })
 }

@@ -2,7 +2,6 @@
 
 use crate::Result;
 use crate::io::ReadOptions;
-use crate::pipeline::thickness_unit_factor;
 use clap::Args;
 
 /// Which attributes of a particle file hold thickness, normals and radius, and the thickness
@@ -27,16 +26,12 @@ pub struct AttributeArgs {
 impl AttributeArgs {
     /// The reader options these flags ask for.
     pub fn read_options(&self) -> Result<ReadOptions> {
-        let mut opts = ReadOptions {
+        ReadOptions {
             thickness_attr: self.thickness_attr.clone(),
             normal_attr: self.normal_attr.clone(),
             radius_attr: self.radius_attr.clone(),
             ..ReadOptions::default()
-        };
-        if let Some(unit) = &self.thickness_unit {
-            opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
-            opts.thickness_unit_explicit = true;
         }
-        Ok(opts)
+        .with_unit(self.thickness_unit.as_deref())
     }
 }

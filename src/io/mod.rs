@@ -134,6 +134,20 @@ impl ReadOptions {
         }
     }
 
+    /// These options reading thickness in the unit named `unit` (`nm`, `um` or `µm`, `mm`,
+    /// `m`), overriding the format's own; `None` keeps them as they are.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] for another unit name.
+    pub fn with_unit(mut self, unit: Option<&str>) -> Result<Self> {
+        if let Some(u) = unit {
+            let u: ThicknessUnit = u.parse().map_err(Error::invalid)?;
+            self.thickness_scale_to_nm = u.nm_per_unit();
+            self.thickness_unit_explicit = true;
+        }
+        Ok(self)
+    }
+
     /// Checks the options themselves (not the file).
     ///
     /// # Errors
@@ -146,6 +160,47 @@ impl ReadOptions {
             )));
         }
         Ok(())
+    }
+}
+
+/// A unit of the thickness values in a file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ThicknessUnit {
+    /// Nanometres.
+    Nm,
+    /// Micrometres (`um` or `µm`).
+    Um,
+    /// Millimetres.
+    Mm,
+    /// Metres.
+    M,
+}
+
+impl ThicknessUnit {
+    /// Nanometres in one of this unit.
+    pub fn nm_per_unit(self) -> f64 {
+        match self {
+            ThicknessUnit::Nm => 1.0,
+            ThicknessUnit::Um => 1e3,
+            ThicknessUnit::Mm => 1e6,
+            ThicknessUnit::M => 1e9,
+        }
+    }
+}
+
+impl std::str::FromStr for ThicknessUnit {
+    type Err = String;
+
+    fn from_str(unit: &str) -> std::result::Result<Self, String> {
+        match unit {
+            "nm" => Ok(ThicknessUnit::Nm),
+            "um" | "µm" => Ok(ThicknessUnit::Um),
+            "mm" => Ok(ThicknessUnit::Mm),
+            "m" => Ok(ThicknessUnit::M),
+            _ => Err(format!(
+                "thickness unit '{unit}' is not one of nm, um, mm, m"
+            )),
+        }
     }
 }
 

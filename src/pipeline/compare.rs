@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::time::{Duration, Instant};
 
-use super::{Prepared, load_cloud, prepare, thickness_unit_factor};
+use super::{Prepared, load_cloud, prepare};
 use crate::geometry::{MeshGeometry, MeshSides, Primitive};
 use crate::image::RgbImage;
 use crate::image::metrics::{DeltaEStats, delta_e_map, delta_e_stats, psnr, ssim};
@@ -190,16 +190,12 @@ pub fn prepare_pair(
 
 /// Reader options for a mesh's vertex attributes, from the scene's input and film sections.
 fn mesh_read_options(desc: &SceneDesc) -> Result<ReadOptions> {
-    let mut opts = ReadOptions {
+    ReadOptions {
         thickness_attr: desc.input.thickness_attr.clone(),
         normal_attr: desc.input.normal_attr.clone(),
         ..ReadOptions::default()
-    };
-    if let Some(unit) = desc.film.thickness_unit.as_deref() {
-        opts.thickness_scale_to_nm = thickness_unit_factor(unit)?;
-        opts.thickness_unit_explicit = true;
     }
-    Ok(opts)
+    .with_unit(desc.film.thickness_unit.as_deref())
 }
 
 /// Replaces the prepared geometry by `mesh`, giving it the cloud's thickness if it has none.

@@ -6,18 +6,13 @@
 //! [`sequence_camera`]'s explicit position and look-at. Both depend only on the frames, never
 //! on which job of a render farm asks, so sharded jobs agree without talking.
 
-use super::vec3;
+pub use super::config::{DEFAULT_FOV, DEFAULT_FROM, DEFAULT_UP};
+
+use super::config::{CameraConfig, check_focus};
 use crate::render::Camera;
 use crate::scene::{CameraDesc, SceneDesc};
 use crate::{Error, Result};
 use glam::Vec3;
-
-/// Default direction from the cloud toward an auto-framed camera.
-pub const DEFAULT_FROM: [f32; 3] = [0.35, 0.3, 1.0];
-/// Default vertical field of view, degrees.
-pub const DEFAULT_FOV: f32 = 40.0;
-/// Default up direction.
-pub const DEFAULT_UP: [f32; 3] = [0.0, 1.0, 0.0];
 
 /// What auto-framing frames: a box around the films and a sphere about the box's centre that
 /// holds every splat whole. Scene units.
@@ -73,31 +68,70 @@ impl Framing {
     }
 }
 
+/// The scene's explicit camera, or the auto-framed one for `framing` ([`auto_camera`]) in an
+/// image of aspect `aspect`.
+///
+/// # Errors
+/// [`Error::Invalid`] for a bad `[camera]` key, or a position equal to the look-at point.
+pub fn camera(desc: &SceneDesc, framing: &Framing, aspect: f32) -> Result<Camera> {
+    CameraConfig::resolve(&desc.camera)?.camera(framing, aspect)
+}
+
 /// The camera auto-framing picks for `framing` in an image of aspect `aspect` (width / height
 /// of the part the scene fills): from `camera.from`, at the distance where the sphere fills
 /// the smaller image dimension, looking at its centre, with the scene's lens. Ignores
-/// `camera.position` (see [`super::prepare`] for the camera a single render uses).
+/// `camera.position` (see [`camera`] for the camera a single render uses).
 ///
 /// # Errors
 /// [`Error::Invalid`] for a bad `camera.fov`, `camera.up`, `camera.from`, aperture or focus.
 pub fn auto_camera(desc: &SceneDesc, framing: &Framing, aspect: f32) -> Result<Camera> {
-    let c = &desc.camera;
-    let fov = checked_fov(c)?;
-    let up = vec3(c.up.unwrap_or(DEFAULT_UP), "camera.up")?;
-    let from = vec3(c.from.unwrap_or(DEFAULT_FROM), "camera.from")?;
-    let cam = Camera::frame(framing.centre, framing.reach, from, up, fov, aspect);
-    super::lens(c, cam, framing.centre)
+    CameraConfig::resolve(&desc.camera)?.auto(framing, aspect)
 }
 
-/// `camera.fov` (default 40°), checked to be 1..170 degrees.
-pub(super) fn checked_fov(c: &CameraDesc) -> Result<f32> {
-    let fov = c.fov.unwrap_or(DEFAULT_FOV);
-    if !(1.0..=170.0).contains(&fov) {
-        return Err(Error::invalid(format!(
-            "camera.fov must be 1..170 degrees, got {fov}"
-        )));
+impl CameraConfig {
+    /// The explicit camera (position and look-at, default: the framing's centre), or without
+    /// a position the auto-framed one ([`CameraConfig::auto`]).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] if the position is the look-at point or the default focus distance
+    /// is not positive.
+    pub fn camera(&self, framing: &Framing, aspect: f32) -> Result<Camera> {
+        let Some(p) = self.position else {
+            return self.auto(framing, aspect);
+        };
+        let target = self.look_at.unwrap_or(framing.centre);
+        if (p - target).length_squared() == 0.0 {
+            return Err(Error::invalid(
+                "camera.position and camera.look_at are the same point",
+            ));
+        }
+        self.lens(Camera::look_at(p, target, self.up, self.fov_deg), target)
     }
-    Ok(fov)
+
+    /// The auto-framed camera for `framing` (see [`auto_camera`]).
+    ///
+    /// # Errors
+    /// As [`CameraConfig::camera`].
+    pub fn auto(&self, framing: &Framing, aspect: f32) -> Result<Camera> {
+        let cam = Camera::frame(
+            framing.centre,
+            framing.reach,
+            self.from,
+            self.up,
+            self.fov_deg,
+            aspect,
+        );
+        self.lens(cam, framing.centre)
+    }
+
+    /// Adds the thin lens (`aperture`, `focus_distance`, default: focused on `target`).
+    fn lens(&self, cam: Camera, target: Vec3) -> Result<Camera> {
+        let focus = match self.focus_distance {
+            Some(f) => f,
+            None => check_focus((target - cam.position).dot(cam.forward()))?,
+        };
+        Ok(cam.with_lens(self.aperture, focus))
+    }
 }
 
 /// The explicit camera that reproduces [`auto_camera`] for `framing` exactly: `desc.camera`
@@ -119,7 +153,7 @@ pub fn sequence_camera(
     let mut c = desc.camera.clone();
     c.position = Some(cam.position.to_array());
     c.look_at = Some(framing.centre.to_array());
-    c.fov = Some(checked_fov(&desc.camera)?);
+    c.fov = Some(CameraConfig::resolve(&desc.camera)?.fov_deg);
     c.up = Some(c.up.unwrap_or(DEFAULT_UP));
     Ok(Some(c))
 }
@@ -205,13 +239,10 @@ mod tests {
         assert_eq!(back.camera.up, Some([0.0, 1.0, 0.0]));
         // The pasted camera is the auto-framed one, bit for bit.
         let c = &back.camera;
-        let explicit = Camera::look_at(
-            Vec3::from(c.position.unwrap()),
-            Vec3::from(c.look_at.unwrap()),
-            Vec3::from(c.up.unwrap()),
-            c.fov.unwrap(),
-        );
-        let explicit = super::super::lens(c, explicit, Vec3::from(c.look_at.unwrap())).unwrap();
+        let explicit = CameraConfig::resolve(c)
+            .unwrap()
+            .camera(&Framing::of_splats(Vec3::ZERO, Vec3::ZERO, &[], &[]), 1.0)
+            .unwrap();
         assert_eq!(explicit, auto);
         // A scene camera wins.
         let mut named = SceneDesc::default();

@@ -1,0 +1,223 @@
+//! Building: the loaded particles become the film geometry and the droplets, the scene's
+//! distance heuristics are set from their size, the framing is measured, and the environment
+//! is made (a map's file read).
+
+use super::config::{AttributeView, EnvironmentConfig, FilmConfig};
+use super::framing::Framing;
+use crate::geometry::{
+    Aabb, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeometry,
+};
+use crate::pointcloud::PointCloud;
+use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
+use crate::pointcloud::knn::KnnTable;
+use crate::render::{AttributeValues, Environment, LatLongMap, Studio};
+use crate::{Error, Result};
+use glam::Vec3;
+
+/// Neighbours used to estimate each disk's curvature and thickness gradient.
+const DETAIL_NEIGHBOURS: usize = 12;
+
+/// The droplet parts as one set of water spheres.
+pub(super) fn droplets(parts: &[PointCloud]) -> Result<Droplets> {
+    let centres: Vec<Vec3> = parts
+        .iter()
+        .flat_map(|p| p.positions.iter().copied())
+        .collect();
+    let radii: Vec<f32> = parts.iter().flat_map(radii_or_zero).collect();
+    Droplets::build(&centres, &radii)
+}
+
+/// A cloud's radii, zero where it has none.
+fn radii_or_zero(p: &PointCloud) -> Vec<f32> {
+    p.radius.clone().unwrap_or_else(|| vec![0.0; p.len()])
+}
+
+/// The values of an `attribute:NAME` view from the film cloud: the extra attribute NAME, the
+/// magnitude of the vector NAME_x/_y/_z, or `thickness` / `radius` themselves.
+pub(super) fn attribute_values(
+    view: &AttributeView,
+    cloud: &PointCloud,
+    radii: &[f32],
+) -> Result<AttributeValues> {
+    let name = view.name.as_str();
+    let found = |title: String, values: Vec<f32>| AttributeValues {
+        title,
+        values,
+        range: view.range,
+    };
+    if let Some(v) = cloud.extra(name) {
+        return Ok(found(name.to_string(), v.to_vec()));
+    }
+    let comps: Option<Vec<&[f32]>> = ["x", "y", "z"]
+        .iter()
+        .map(|c| cloud.extra(&format!("{name}_{c}")))
+        .collect();
+    if let Some(c) = comps {
+        let v = (0..cloud.len())
+            .map(|i| Vec3::new(c[0][i], c[1][i], c[2][i]).length())
+            .collect();
+        return Ok(found(format!("|{name}|"), v));
+    }
+    match name {
+        "thickness" => Ok(found(
+            "thickness (nm)".into(),
+            cloud.thickness_nm.clone().unwrap_or_default(),
+        )),
+        "radius" => Ok(found("splat radius".into(), radii.to_vec())),
+        _ => {
+            let mut names: Vec<&str> = cloud.extra.iter().map(|(k, _)| k.as_str()).collect();
+            names.truncate(40);
+            Err(Error::invalid(format!(
+                "render.view: no attribute '{}' in the film particles (they have: {}; vectors \
+                 by their name without _x/_y/_z; also thickness, radius)",
+                crate::io::show_name(name),
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            )))
+        }
+    }
+}
+
+/// The film geometry of `cloud` drawn as `film.primitive` with `radii`; `neighbours` is the
+/// estimate's neighbour table, if it built one.
+pub(super) fn film_geometry(
+    film: &FilmConfig,
+    cloud: &PointCloud,
+    radii: &[f32],
+    neighbours: Option<KnnTable>,
+) -> Result<FilmGeometry> {
+    let normals = cloud.normals.as_deref().unwrap_or_default();
+    let thickness = cloud.thickness_nm.as_deref().unwrap_or_default();
+    if cloud.is_empty() {
+        return Ok(SplatGeometry::build(Primitive::Sphere, &[], &[], &[], &[])?.into());
+    }
+    if film.primitive == Primitive::Mls {
+        return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
+    }
+    let mut splats =
+        SplatGeometry::build(film.primitive, &cloud.positions, normals, radii, thickness)?;
+    if film.first_order_detail {
+        let (curvature, gradient) = detail(&cloud.positions, normals, thickness, neighbours);
+        splats.set_curvature(&curvature)?;
+        splats.set_thickness_gradient(&gradient)?;
+    }
+    if !film.blend {
+        splats.set_layer_blend(LayerBlend::NONE);
+    }
+    Ok(splats.into())
+}
+
+/// First-order splats: normals tilt with the curvature, thickness follows its gradient. Reuses
+/// the estimate's neighbour table when it has enough neighbours per particle; otherwise finds
+/// the neighbours a slice at a time, so no whole table is ever held (96 bytes a particle for
+/// 12 neighbours).
+fn detail(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    thickness: &[f32],
+    neighbours: Option<KnnTable>,
+) -> (Vec<f32>, Vec<Vec3>) {
+    match neighbours {
+        Some(t) if t.k >= DETAIL_NEIGHBOURS => (
+            curvature_from_table(positions, normals, &t),
+            gradient_from_table(positions, normals, thickness, &t),
+        ),
+        _ => first_order_detail(positions, normals, thickness, DETAIL_NEIGHBOURS),
+    }
+}
+
+/// The scene's distances, from its size and its splats.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Tolerances {
+    /// Self-intersection offset, scene units.
+    pub epsilon: f32,
+    /// Distance past a film crossing before the next one is looked for, scene units.
+    pub layer_skip: f32,
+}
+
+impl Tolerances {
+    /// The tolerances of films and droplets within `bounds` drawn as `primitive` with `radii`.
+    pub fn of(bounds: Aabb, primitive: Primitive, radii: &[f32]) -> Self {
+        let diag = (bounds.max - bounds.min).length().max(1e-12);
+        let epsilon = 1e-5 * diag.max(bounds.max.abs().max_element());
+        let mut sorted = radii.to_vec();
+        let mid = sorted.len() / 2;
+        let median_radius = if sorted.is_empty() {
+            0.0
+        } else {
+            *sorted.select_nth_unstable_by(mid, f32::total_cmp).1
+        };
+        let layer_skip = match primitive {
+            Primitive::Disk => 0.5 * median_radius,
+            Primitive::Sphere => epsilon,
+            // An MLS crossing is refined to 1e-3 radii: a twentieth of a radius clears it.
+            Primitive::Mls => 0.05 * median_radius,
+        };
+        Tolerances {
+            epsilon,
+            layer_skip,
+        }
+    }
+}
+
+/// What auto-framing frames: the films (`geometry` of `cloud` with `radii`) and the droplets
+/// together; `bounds` (of both) when there is neither.
+pub(super) fn framing(
+    geometry: &FilmGeometry,
+    cloud: &PointCloud,
+    radii: &[f32],
+    drops: &[PointCloud],
+    bounds: Aabb,
+) -> Framing {
+    let mut parts = Vec::new();
+    if !cloud.is_empty() {
+        let fb = geometry.bounds();
+        parts.push(Framing::of_splats(fb.min, fb.max, &cloud.positions, radii));
+    }
+    for d in drops.iter().filter(|d| !d.is_empty()) {
+        let (lo, hi) = d
+            .positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(*p), hi.max(*p))
+            });
+        parts.push(Framing::of_splats(lo, hi, &d.positions, &radii_or_zero(d)));
+    }
+    Framing::union_all(&parts)
+        .unwrap_or_else(|| Framing::of_splats(bounds.min, bounds.max, &[], &[]))
+}
+
+/// The environment of the configuration; a map's EXR file is read here.
+///
+/// # Errors
+/// As [`crate::image::read_exr_rgba`] for the map.
+pub(super) fn environment(e: &EnvironmentConfig) -> Result<Environment> {
+    match e {
+        EnvironmentConfig::Studio { intensity } => Ok(Environment::Studio(Studio {
+            intensity: *intensity,
+            ..Studio::default()
+        })),
+        EnvironmentConfig::Uniform(radiance) => Ok(Environment::Uniform(*radiance)),
+        EnvironmentConfig::Map {
+            path,
+            rotation_deg,
+            intensity,
+        } => {
+            let (w, h, rgba) = crate::image::read_exr_rgba(path)?;
+            let texels = rgba
+                .into_iter()
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect();
+            Ok(Environment::Map(LatLongMap::new(
+                w,
+                h,
+                texels,
+                *rotation_deg,
+                *intensity,
+            )))
+        }
+    }
+}

@@ -1,0 +1,322 @@
+//! Loading: the scene's `[input]` (files or a sample) read into parts, the films checked (or
+//! repaired), deduplicated, scaled and completed (normals, radii, thickness estimated where
+//! missing, radii fitted to the sampling), the droplets kept apart.
+
+use super::config::FilmConfig;
+use crate::geometry::Primitive;
+use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud, read_parts};
+use crate::optics::check_film_params;
+use crate::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii};
+use crate::pointcloud::knn::KnnTable;
+use crate::pointcloud::{
+    EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
+};
+use crate::samples::{SampleKind, SampleParams, sparse};
+use crate::scene::SceneDesc;
+use crate::{Error, Result};
+use std::path::Path;
+
+/// Thickness unit name → factor to nanometres (see [`ThicknessUnit`]).
+///
+/// # Errors
+/// [`Error::Invalid`] for a name that is not nm, um (µm), mm or m.
+pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
+    unit.parse::<ThicknessUnit>()
+        .map(ThicknessUnit::nm_per_unit)
+        .map_err(Error::invalid)
+}
+
+/// Checks a sample's parameters (`prefix` names where they came from: "input." in scene
+/// files, "--" on the command line): particles in 1..=50 000 000, a finite time, a sparse
+/// fraction in (0, 1].
+pub fn check_sample_params(p: &SampleParams, sparse: Option<f64>, prefix: &str) -> Result<()> {
+    if p.particles == 0 || p.particles > 50_000_000 {
+        return Err(Error::invalid(format!(
+            "{prefix}particles must be 1..=50000000, got {}",
+            p.particles
+        )));
+    }
+    // The generated cloud's arrays (positions, normals, thickness, radius) and the generator's
+    // scratch: ~64 bytes a particle.
+    crate::budget::check(p.particles as u64 * 64, || {
+        format!("{prefix}particles = {}", p.particles)
+    })
+    .map_err(Error::invalid)?;
+    if !p.time.is_finite() {
+        return Err(Error::invalid(format!("{prefix}time must be finite")));
+    }
+    if let Some(f) = sparse
+        && !(f > 0.0 && f <= 1.0)
+    {
+        return Err(Error::invalid(format!(
+            "{prefix}sparse must be a fraction in (0, 1], got {f}"
+        )));
+    }
+    Ok(())
+}
+
+/// How the scene's input files are read: attribute names and the thickness unit (without an
+/// explicit unit each format's own applies: m for the simulators' files, nm else).
+fn read_options(desc: &SceneDesc) -> Result<ReadOptions> {
+    let input = &desc.input;
+    ReadOptions {
+        thickness_attr: input.thickness_attr.clone(),
+        normal_attr: input.normal_attr.clone(),
+        radius_attr: input.radius_attr.clone(),
+        ..ReadOptions::default()
+    }
+    .with_unit(desc.film.thickness_unit.as_deref())
+}
+
+/// Loads (or generates) the scene's particle cloud, with thickness in nm: `input.cloud`'s
+/// film (every film part of it as one cloud), or the sample.
+pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
+    let input = &desc.input;
+    match (&input.cloud, &input.sample) {
+        (Some(_), Some(_)) => Err(Error::invalid(
+            "input: give either cloud or sample, not both",
+        )),
+        (None, None) => Err(Error::invalid(
+            "input: no particles given (set input.cloud or input.sample)",
+        )),
+        (None, Some(name)) => {
+            let kind = SampleKind::from_name(name)
+                .map_err(|e| Error::invalid(format!("input.sample: {e}")))?;
+            let mut p = SampleParams::default();
+            if let Some(n) = input.particles {
+                p.particles = n;
+            }
+            if let Some(s) = input.sample_seed {
+                p.seed = s;
+            }
+            if let Some(t) = input.time {
+                p.time = t;
+            }
+            check_sample_params(&p, input.sparse, "input.")?;
+            let cloud = kind.generate(&p);
+            Ok(match input.sparse {
+                Some(f) if f < 1.0 => sparse(&cloud, f, p.seed),
+                _ => cloud,
+            })
+        }
+        (Some(path), None) => read_cloud(&base.join(path), &read_options(desc)?),
+    }
+}
+
+/// Loads (or generates) every particle set of the scene: `input.cloud` and `input.clouds`
+/// (each read into its parts: a simulator frame gives its film and droplets, a foam one film
+/// per bubble), or the sample. Thickness in nm.
+pub fn load_parts(desc: &SceneDesc, base: &Path) -> Result<Vec<CloudPart>> {
+    let input = &desc.input;
+    let paths = input.paths();
+    if paths.is_empty() || input.sample.is_some() {
+        let cloud = load_cloud(desc, base)?;
+        return Ok(vec![CloudPart::film(
+            input.sample.clone().unwrap_or_default(),
+            cloud,
+            Vec::new(),
+        )]);
+    }
+    let opts = read_options(desc)?;
+    let mut parts = Vec::new();
+    for p in paths {
+        parts.extend(read_parts(&base.join(p), &opts)?);
+    }
+    Ok(parts)
+}
+
+/// The error for a scene whose parts hold no particle at all, naming its first input.
+pub(super) fn nothing_loaded(desc: &SceneDesc, base: &Path) -> Error {
+    let what = desc
+        .input
+        .paths()
+        .first()
+        .map(|p| base.join(p).display().to_string());
+    Error::invalid(format!(
+        "{}point cloud is empty (0 particles)",
+        what.map(|w| format!("{w}: ")).unwrap_or_default()
+    ))
+}
+
+/// Splits the parts into the non-empty films and the droplet clouds, noting each part's notes
+/// and the films left empty.
+pub(super) fn split(
+    parts: Vec<CloudPart>,
+    notes: &mut Vec<String>,
+) -> (Vec<CloudPart>, Vec<PointCloud>) {
+    let mut films = Vec::new();
+    let mut drops = Vec::new();
+    for part in parts {
+        notes.extend(part.notes.iter().cloned());
+        match part.kind {
+            PartKind::Droplets => drops.push(part.cloud),
+            PartKind::Film if part.cloud.is_empty() => {
+                notes.push(format!("{}: no film particles left", part.label));
+            }
+            PartKind::Film => films.push(part),
+        }
+    }
+    (films, drops)
+}
+
+/// The films of a scene as one cloud, complete and checked.
+#[derive(Debug, Default)]
+pub(super) struct Films {
+    /// Every film particle, with normals, radii and thickness (nm).
+    pub cloud: PointCloud,
+    /// The estimate's neighbour table, when there was one film and it needed one.
+    pub neighbours: Option<KnnTable>,
+    /// Every film came with its radii (none were estimated from spacing).
+    pub had_radius: bool,
+}
+
+impl Films {
+    /// The splat radii: the particles' radii times `film.radius_scale`; estimated radii make
+    /// disks overlap into a closed film, so spheres drawn as particles get half of that, and
+    /// each particle stays visible as its own ball.
+    pub fn radii(&self, film: &FilmConfig) -> Vec<f32> {
+        let estimated_scale = if !self.had_radius && film.primitive == Primitive::Sphere {
+            0.5
+        } else {
+            1.0
+        };
+        let scale = film.radius_scale * estimated_scale;
+        self.cloud
+            .radius
+            .iter()
+            .flatten()
+            .map(|r| r * scale)
+            .collect()
+    }
+}
+
+/// Readies every film ([`complete`]) and joins them into one cloud; then checks every
+/// thickness against the film's index.
+pub(super) fn films(
+    films: Vec<CloudPart>,
+    film: &FilmConfig,
+    repairing: bool,
+    notes: &mut Vec<String>,
+) -> Result<Films> {
+    let single = films.len() == 1;
+    let mut clouds = Vec::with_capacity(films.len());
+    let mut out = Films {
+        had_radius: true,
+        ..Films::default()
+    };
+    for part in films {
+        let (cloud, table, had_radius) = complete(part, film, repairing, notes)?;
+        out.had_radius &= had_radius;
+        if single {
+            out.neighbours = table;
+        }
+        clouds.push(cloud);
+    }
+    out.cloud = if clouds.len() == 1 {
+        clouds.pop().unwrap_or_default()
+    } else {
+        PointCloud::concat(&clouds)
+    };
+    check_thickness(&out.cloud, film.ior)?;
+    Ok(out)
+}
+
+/// One film part made ready to draw: validated (or repaired), coincident copies dropped,
+/// thickness scaled, what is missing estimated, radii fitted. Returns the estimate's neighbour
+/// table if it built one, and whether the part came with radii.
+fn complete(
+    part: CloudPart,
+    film: &FilmConfig,
+    repairing: bool,
+    notes: &mut Vec<String>,
+) -> Result<(PointCloud, Option<KnnTable>, bool)> {
+    let label = part.label;
+    let mut cloud = part.cloud;
+    let name = |e: Error| Error::invalid(format!("{label}: {e}"));
+    if repairing {
+        notes.push(repair(&mut cloud).to_string());
+    } else {
+        validate(&cloud).map_err(name)?;
+    }
+    // Copies at one position would be a pile of identical disks no tree can split.
+    let coincident = crate::pointcloud::dedupe::drop_coincident(&mut cloud);
+    if coincident > 0 {
+        notes.push(format!(
+            "{label}: {coincident} particles at the same position as an earlier one: drawn once"
+        ));
+    }
+    let scale = film.thickness_scale;
+    if let Some(t) = cloud.thickness_nm.as_mut().filter(|_| scale != 1.0) {
+        t.iter_mut().for_each(|v| *v *= scale);
+    }
+    if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
+        notes.push(format!("{label}: {hint}"));
+    }
+    let had_radius = cloud.radius.is_some();
+    let estimate = EstimateOptions {
+        default_thickness_nm: film.default_thickness_nm,
+        ..EstimateOptions::default()
+    };
+    let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate);
+    notes.push(report.to_string());
+    if repairing {
+        validate(&cloud).map_err(name)?;
+    }
+    if film.fit_radii {
+        // Radii fitted to the sampling: no pinholes inside, no bulge at open edges. The
+        // estimate's table serves if it has the neighbours, else a sliced search.
+        let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
+        let normals = cloud.normals.as_deref().unwrap_or_default();
+        if let Some(r) = cloud.radius.as_mut() {
+            let fit = fit_radii(&cloud.positions, normals, r, t);
+            notes.push(format!("{label}: {fit}"));
+        }
+    }
+    Ok((cloud, table, had_radius))
+}
+
+/// Refuses a thickness the optics cannot take (outside 0..1e6 nm), with a hint when the file's
+/// unit looks wrong.
+fn check_thickness(cloud: &PointCloud, ior: f32) -> Result<()> {
+    let thickness_ok = |v: &f32| check_film_params(ior as f64, *v as f64).is_ok();
+    if let Some((i, v)) = cloud
+        .thickness_nm
+        .iter()
+        .flatten()
+        .enumerate()
+        .find(|(_, v)| !thickness_ok(v))
+    {
+        let hint = cloud
+            .thickness_nm
+            .as_deref()
+            .and_then(thickness_unit_hint)
+            .map(|h| format!(": {h}"))
+            .unwrap_or_default();
+        return Err(Error::invalid(format!(
+            "particle {i} has thickness {v} nm after scaling, outside 0..1e6 nm{hint}"
+        )));
+    }
+    Ok(())
+}
+
+/// A hint when thickness values (nm) are implausible for a soap film as read: all below
+/// 0.001 nm (a file in metres read as nm) or all above 1 mm (a file in nm read as metres).
+pub fn thickness_unit_hint(thickness_nm: &[f32]) -> Option<String> {
+    let finite = thickness_nm.iter().filter(|v| v.is_finite());
+    let max = finite.clone().fold(f32::NEG_INFINITY, |a, b| a.max(*b));
+    let min = finite.fold(f32::INFINITY, |a, b| a.min(*b));
+    if max > 0.0 && max < 1e-3 {
+        Some(format!(
+            "thickness values are all below 0.001 nm (max {max:.3e} nm): the file's unit is almost \
+             certainly not nm; if it is metres, read it with --thickness-unit m (film.thickness_unit = \"m\")"
+        ))
+    } else if min > 1e6 {
+        Some(format!(
+            "thickness values are all above 1 mm (min {min:.3e} nm): the file's unit is almost \
+             certainly not the one read; if it is nm, read it with --thickness-unit nm \
+             (film.thickness_unit = \"nm\")"
+        ))
+    } else {
+        None
+    }
+}

@@ -1,0 +1,116 @@
+//! Output: the rendered buffers as image files (PNG tone-mapped, EXR linear with its layers),
+//! and the scientific views with their colour bars.
+
+use super::Prepared;
+use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
+use crate::render::{RenderOutput, View, ViewImage};
+use crate::{Error, Result};
+use glam::Vec3;
+use std::path::Path;
+
+/// Width / height of the part of a `width`×`height` image that `view` fills with the scene:
+/// all of it, or what its colour bar leaves.
+pub fn scene_aspect(view: View, width: usize, height: usize) -> f32 {
+    scene_width(view, width, height) as f32 / height as f32
+}
+
+/// Columns of a `width`×`height` image that `view` fills with the scene (the rest is its
+/// colour bar).
+pub(super) fn scene_width(view: View, width: usize, height: usize) -> usize {
+    if view.has_legend() {
+        width - crate::figure::colour_bar_width(width, height)
+    } else {
+        width
+    }
+}
+
+/// Writes `out` to `path`: PNG (exposure + tone curve + sRGB) or EXR (linear RGBA plus depth,
+/// normal, thickness and hit-count layers), by extension. Written atomically.
+pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> {
+    write_output(out, &p.grade, p.exposure, p.tonemap, path)
+}
+
+/// [`write_image`] with the grading, exposure (EV) and tone curve given directly.
+pub fn write_output(
+    out: &RenderOutput,
+    grade: &Grade,
+    exposure: f32,
+    tonemap: ToneMap,
+    path: &Path,
+) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => {
+            let data = out.rgb.iter().map(|c| c.to_array()).collect();
+            let img = RgbImage::from_data(out.width, out.height, data)?;
+            save_png(path, &grade.apply(&img), exposure, tonemap)
+        }
+        Some("exr") => {
+            let rgba = out
+                .rgb
+                .iter()
+                .zip(&out.alpha)
+                .map(|(c, a)| [c.x, c.y, c.z, *a])
+                .collect();
+            let mut layers = ExrLayers::rgba(out.width, out.height, rgba);
+            layers.depth = Some(out.depth.clone());
+            layers.normal = Some(out.normal.iter().map(|n| n.to_array()).collect());
+            layers.thickness = Some(out.thickness.clone());
+            layers.hit_count = Some(out.hits.clone());
+            write_exr(path, &layers)
+        }
+        _ => Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            path.display()
+        ))),
+    }
+}
+
+/// Renders the prepared scene's scientific view (see [`View`]); `None` for the shaded view.
+/// The picture is exactly the settings' width × height: a view with a colour bar renders the
+/// scene in the columns the bar leaves (see [`crate::figure::colour_bar_width`]) and draws the
+/// bar, its labels matching [`crate::render::Legend::colour`], in the rest.
+pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
+    if p.view == View::Shaded {
+        return Ok(None);
+    }
+    let (width, height) = (p.settings.width, p.settings.height);
+    let scene_w = scene_width(p.view, width, height);
+    let mut v =
+        crate::render::render_view_of(&p.scene, p.view, scene_w, height, p.attribute.as_ref())?;
+    if let Some(l) = &v.legend {
+        let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
+        let img = RgbImage::from_data(v.width, v.height, data)?;
+        let ramp = |t: f32| l.colour(l.min + t * (l.max - l.min)).to_array();
+        let img =
+            crate::figure::add_colour_bar(&img, width - scene_w, &l.title, l.min, l.max, &ramp);
+        v.width = img.width;
+        v.rgb = img.data.iter().map(|c| Vec3::from(*c)).collect();
+    }
+    Ok(Some(v))
+}
+
+/// Writes a view (from [`render_view`], colour bar included): PNG (clamp tone curve, 0 EV), or
+/// EXR holding the same picture in linear RGB.
+pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
+    let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
+    let img = RgbImage::from_data(v.width, v.height, data)?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => save_png(path, &img, 0.0, ToneMap::Clamp),
+        Some("exr") => {
+            let rgba = img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
+            write_exr(path, &ExrLayers::rgba(v.width, v.height, rgba))
+        }
+        _ => Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            path.display()
+        ))),
+    }
+}
