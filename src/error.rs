@@ -32,6 +32,10 @@ pub enum Error {
     /// A fault inside filmsplat (a bug or an unexpected condition).
     #[error("internal error: {0}")]
     Internal(String),
+    /// The command line is wrong (an unknown flag, a missing argument): clap's message with
+    /// its usage lines, printed as clap prints it.
+    #[error("{0}")]
+    Usage(Box<clap::Error>),
     /// The caller asked the work to stop (see `RenderSettings::cancel`).
     #[error("cancelled")]
     Cancelled,

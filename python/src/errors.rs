@@ -18,7 +18,7 @@ pub fn to_py(e: Error) -> PyErr {
             std::io::ErrorKind::PermissionDenied => PyPermissionError::new_err(msg),
             _ => PyOSError::new_err(msg),
         },
-        Error::Format { .. } | Error::Invalid(_) => PyValueError::new_err(msg),
+        Error::Format { .. } | Error::Invalid(_) | Error::Usage(_) => PyValueError::new_err(msg),
         Error::Cancelled => PyKeyboardInterrupt::new_err(msg),
         Error::Internal(_) => PyRuntimeError::new_err(msg),
     }

@@ -107,7 +107,12 @@ impl NativeScene {
             .map_err(to_py)?;
         Ok(NativeScene {
             particles: p.particles,
-            notes: p.notes.iter().filter(|n| !n.is_empty()).cloned().collect(),
+            notes: p
+                .notes
+                .iter()
+                .filter(|n| !n.text.is_empty())
+                .map(|n| n.text.clone())
+                .collect(),
             build_seconds: (
                 p.load_time.as_secs_f64(),
                 p.estimate_time.as_secs_f64(),

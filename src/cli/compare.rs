@@ -240,8 +240,8 @@ fn compare_one(
     let mut notes: Vec<&String> = Vec::new();
     for v in &variants {
         for n in &v.prepared.notes {
-            if !n.is_empty() && !n.contains("nothing to fill") && !notes.contains(&n) {
-                notes.push(n);
+            if !n.text.is_empty() && !n.routine && !notes.contains(&&n.text) {
+                notes.push(&n.text);
             }
         }
     }

@@ -10,6 +10,7 @@ mod glob;
 mod info;
 mod parse;
 mod render;
+mod render_args;
 mod sample;
 mod sequence;
 mod stability;
@@ -50,7 +51,8 @@ enum Command {
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
-/// to `out`. Returns the library error for the caller to report.
+/// to `out`. Returns the library error for the caller to report (a bad command line as
+/// [`crate::Error::Usage`], or [`crate::Error::Invalid`] naming a refused value); never exits.
 pub fn run<I, T>(args: I, out: &mut dyn Write) -> crate::Result<()>
 where
     I: IntoIterator<Item = T>,
@@ -71,14 +73,11 @@ where
             ) {
                 let text = e.render().to_string();
                 let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
-                eprintln!(
-                    "filmsplat: error: {}",
-                    first.trim_start_matches("error: ").trim()
-                );
-            } else {
-                let _ = e.print();
+                return Err(crate::Error::invalid(
+                    first.trim_start_matches("error: ").trim(),
+                ));
             }
-            std::process::exit(2);
+            return Err(crate::Error::Usage(Box::new(e)));
         }
     };
     match cli.command {
@@ -109,6 +108,10 @@ pub fn main() -> i32 {
                 1
             }
         },
+        Err(crate::Error::Usage(e)) => {
+            let _ = e.print();
+            2
+        }
         Err(e) => {
             eprintln!("filmsplat: error: {e}");
             e.exit_code()

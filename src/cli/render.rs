@@ -1,211 +1,14 @@
 //! `filmsplat render`: render a particle cloud or a scene file.
 
+pub use super::render_args::RenderArgs;
 use super::{glob, sequence};
-use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::pipeline;
 use crate::pipeline::{Prepared, memory};
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
-use clap::Args;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// Arguments of `filmsplat render`. Flags override the scene file.
-#[derive(Debug, Clone, Args)]
-#[command(after_help = attribute_help())]
-pub struct RenderArgs {
-    /// Particle inputs, rendered together as one scene: files (.ply, .vtk, .vtu/.vtp, .pvd,
-    /// .bgeo[.gz], .csv/.xyz), frame or snapshot folders of the thin-film SPH code (film and
-    /// droplets), MELP foam frame folders (every bubble); or one scene file (.toml). `-` reads a
-    /// particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe such as
-    /// `<(cat f.ply)`; a single quoted glob ('frames/*.ply': * and ? in the file name) renders
-    /// every match, sorted, as a sequence.
-    #[arg(required = true, num_args = 1..)]
-    pub(super) inputs: Vec<PathBuf>,
-    /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
-    /// hit-count layers); `-` writes the PNG to standard output; `{stem}` is the input's file
-    /// stem (with a quoted glob input, each match's). Default: the scene file's output.path,
-    /// else render.png.
-    #[arg(short, long)]
-    pub(super) output: Option<PathBuf>,
-    /// Also write the linear EXR with all layers to this path.
-    #[arg(long)]
-    pub(super) exr: Option<PathBuf>,
-    /// How particles are drawn: disk (oriented splats, blended into one film), sphere, or mls
-    /// (the smooth moving-least-squares surface through the particles).
-    #[arg(long)]
-    pub(super) primitive: Option<String>,
-    /// Settings preset: preview (1 spp, 4 crossings), balanced (the default: 4 spp, 12
-    /// crossings) or final (16 spp, 16 crossings), points on the measured speed/accuracy front.
-    /// Given here it replaces the scene file's spp, max_depth, min_weight, roulette, shading
-    /// and wavelengths; the flags for those still override it. For spheres balanced and final
-    /// also play Russian roulette below weight 0.1 (see --roulette).
-    #[arg(long)]
-    pub(super) preset: Option<String>,
-    /// Camera samples per pixel.
-    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 65_536))]
-    pub(super) spp: Option<u32>,
-    /// Image size WIDTHxHEIGHT in pixels (default 960x540).
-    #[arg(long, value_parser = super::parse::size)]
-    pub(super) size: Option<(usize, usize)>,
-    /// Random seed; the same seed gives the same image.
-    #[arg(long)]
-    pub(super) seed: Option<u64>,
-    /// Film shading: lut (precomputed colour table, fastest), rgb (per-hit spectral
-    /// integration over --wavelengths wavelengths) or spectral (full spectral transport, the
-    /// reference; at most 16 wavelengths).
-    #[arg(long)]
-    pub(super) shading: Option<String>,
-    /// Wavelengths per camera sample for --shading rgb (1..64).
-    #[arg(long, value_parser = super::parse::int_in::<usize>(1, 64))]
-    pub(super) wavelengths: Option<usize>,
-    /// Wavelength sampling for --shading rgb: jittered, stratified or hero.
-    #[arg(long)]
-    pub(super) strategy: Option<String>,
-    /// Most film crossings along one path.
-    #[arg(long, value_parser = super::parse::int_in::<u32>(0, 64))]
-    pub(super) max_depth: Option<u32>,
-    /// Russian roulette below this branch weight (0..1; 0, the default, is off): dim branches
-    /// of the ray tree are followed at random, unbiased. Fewer rays for some noise; pays for
-    /// --primitive sphere, where a camera sample crosses many films (the balanced and final
-    /// presets use 0.1 there).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) roulette: Option<f32>,
-    /// Film index of refraction (default 1.33).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) ior: Option<f32>,
-    /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
-    /// the thin-film SPH code's frame folders, nm otherwise).
-    #[arg(long)]
-    pub(super) thickness_unit: Option<String>,
-    /// Extra factor on thickness after the unit conversion.
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) thickness_scale: Option<f32>,
-    /// Name of the thickness attribute (default: the first of the aliases below).
-    #[arg(long)]
-    pub(super) thickness_attr: Option<String>,
-    /// Prefix of the normal attributes (n for nx ny nz, normal for normal_x ..., N).
-    #[arg(long)]
-    pub(super) normal_attr: Option<String>,
-    /// Name of the radius attribute.
-    #[arg(long)]
-    pub(super) radius_attr: Option<String>,
-    /// Thickness in nm for clouds without one (default 500).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) default_thickness: Option<f32>,
-    /// Factor on all splat radii (estimated from spacing or read from the file).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) radius_scale: Option<f32>,
-    /// Do not blend overlapping disks into one film crossing (for comparison: the film is then
-    /// applied once per disk and colours jump at splat rims).
-    #[arg(long)]
-    pub(super) no_blend: bool,
-    /// Use the splat radii as read or estimated: do not grow them to close pinholes between
-    /// particles, nor trim them at open edges (film.fit_radii = false).
-    #[arg(long)]
-    pub(super) raw_radii: bool,
-    /// Flat disks: skip the curvature estimate that tilts each disk's normal with the film's
-    /// curvature (faster set-up; curved films then show faceted reflections).
-    #[arg(long)]
-    pub(super) flat_splats: bool,
-    /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
-    #[arg(long)]
-    pub(super) env: Option<String>,
-    /// Rotation of an environment map about +y, degrees.
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) env_rotation: Option<f32>,
-    /// Multiplier on the environment's radiance.
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) env_intensity: Option<f32>,
-    /// Camera position x,y,z (scene units); default: auto-framing (a sequence is framed once,
-    /// on its first frame, see --frame-all).
-    #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
-    pub(super) camera: Option<[f32; 3]>,
-    /// Point the camera looks at, x,y,z (default: the cloud's centre).
-    #[arg(long, value_parser = super::parse::vec3, allow_hyphen_values = true)]
-    pub(super) look_at: Option<[f32; 3]>,
-    /// Vertical field of view, degrees.
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) fov: Option<f32>,
-    /// Exposure, EV (stops).
-    #[arg(long, allow_hyphen_values = true, value_parser = super::parse::finite_f32)]
-    pub(super) exposure: Option<f32>,
-    /// Light samples per prop hit (each: a light point, an environment direction and a
-    /// material direction, combined by multiple importance sampling).
-    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 1024))]
-    pub(super) light_samples: Option<u32>,
-    /// Thin-lens aperture radius, scene units (0: pinhole, everything sharp).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) aperture: Option<f32>,
-    /// Distance in focus, scene units (default: the distance to the look-at point).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) focus_distance: Option<f32>,
-    /// White balance: neutralise light of this colour temperature, kelvin (1667..25000).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) white_balance: Option<f32>,
-    /// Contrast around middle grey (1 = unchanged).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) contrast: Option<f32>,
-    /// Saturation (1 = unchanged, 0 = grey).
-    #[arg(long, value_parser = super::parse::finite_f32)]
-    pub(super) saturation: Option<f32>,
-    /// Tone curve for PNG: filmic or clamp.
-    #[arg(long)]
-    pub(super) tonemap: Option<String>,
-    /// What to show: shaded (the thin-film render), or a scientific view of the first film
-    /// crossing: thickness (false colour with a colour bar, nm), normal, depth, particle-id,
-    /// coverage (splats blended per pixel: shows sparse regions and holes), or attribute:NAME
-    /// (any stored per-particle attribute, e.g. vrt, conc, gamma; a vector such as v by its
-    /// magnitude; with a colour bar).
-    #[arg(long)]
-    pub(super) view: Option<String>,
-    /// Values at the ends of the colour bar of --view attribute:NAME, MIN,MAX (default: the
-    /// range of what is visible).
-    #[arg(long, value_parser = super::parse::min_max, allow_hyphen_values = true)]
-    pub(super) view_range: Option<[f32; 2]>,
-    /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
-    /// and radii (says how many), instead of refusing the file.
-    #[arg(long)]
-    pub(super) repair: bool,
-    /// Render a sequence: frame numbers A..B (B excluded) or A..=B. The input (or the scene's
-    /// input.cloud) and the output contain a frame pattern, {} or {:04} (zero-padded), e.g.
-    /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`. Each frame's seed
-    /// is the seed plus the frame number.
-    #[arg(long, value_parser = super::sequence::frame_list)]
-    pub(super) frames: Option<sequence::FrameList>,
-    /// Render only every N-th frame of --frames, starting at the K-th (K/N, 0 <= K < N), so N
-    /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
-    #[arg(long, value_parser = super::sequence::shard)]
-    pub(super) shard: Option<(u64, u64)>,
-    /// With --frames and no camera position: auto-frame the sequence's one camera on the union
-    /// of all frames' bounds (each job then prepares every frame once more to measure it),
-    /// instead of on the first frame of --frames. The chosen camera is printed as scene-file
-    /// lines.
-    #[arg(long)]
-    pub(super) frame_all: bool,
-    /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
-    #[arg(skip)]
-    pub(super) frame: Option<u64>,
-    /// Skip frames whose output file already exists (outputs are renamed into place only when
-    /// complete, so an existing file is a finished frame), and remove the hidden temporary
-    /// files (`.NAME.tmp-PID-N`) a killed run left for the frames of this run.
-    #[arg(long)]
-    pub(super) resume: bool,
-    /// Report a frame that fails and go on with the others (exit code 2 at the end if any
-    /// failed), instead of stopping at the first.
-    #[arg(long)]
-    pub(super) keep_going: bool,
-    /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
-    /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
-    /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
-    /// that cannot be read). A SIZE above it lets a render try anyway.
-    #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
-    pub(super) max_memory: Option<u64>,
-    /// No progress bar or summary.
-    #[arg(short, long)]
-    pub(super) quiet: bool,
-}
 
 /// " and N droplets" when there are any.
 fn droplet_note(n: usize) -> String {
@@ -216,160 +19,130 @@ fn droplet_note(n: usize) -> String {
     }
 }
 
-impl RenderArgs {
-    /// The first input, for messages.
-    pub(super) fn first_input(&self) -> String {
-        self.inputs
-            .first()
-            .map(|p| p.display().to_string())
-            .unwrap_or_default()
-    }
-
-    /// The scene file, if the input is one (it must then be the only input).
-    ///
-    /// # Errors
-    /// [`Error::Invalid`] if a scene file is given with other inputs.
-    pub(super) fn scene_file(&self) -> Result<Option<&PathBuf>> {
-        let toml = |p: &&PathBuf| {
-            p.extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
-        };
-        match self.inputs.iter().find(toml) {
-            Some(f) if self.inputs.len() > 1 => Err(Error::invalid(format!(
-                "{}: a scene file is rendered alone; list several inputs in its \
-                 input.clouds instead",
-                f.display()
-            ))),
-            found => Ok(found),
-        }
-    }
-}
-
-fn attribute_help() -> String {
-    format!(
-        "Attribute names recognised in particle files:\n  thickness: {}\n  normals:   {}\n  radius:    {}\n\
-         Missing normals are estimated by PCA over nearest neighbours, missing radii from the local spacing.",
-        THICKNESS_ALIASES.join(", "),
-        NORMAL_ALIASES.join(", "),
-        RADIUS_ALIASES.join(", ")
-    )
-}
-
-/// The scene description: from the TOML file, or a default one around a particle file; then the
-/// flags on top. Returns it with the folder its paths are relative to.
+/// The scene description: from the TOML file, or a default one around the particle files;
+/// then the flags on top (a flag wins over its scene-file key, and is checked with it by
+/// [`SceneDesc::resolve`]). Returns it with the folder its paths are relative to.
 pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
-    let (mut d, base) = match a.scene_file()? {
-        Some(file) => {
-            // Scene files are small: at most 16 MiB, never a device.
-            let bytes = crate::io::input::read_small(file, 16 << 20)?;
-            let text = String::from_utf8(bytes).map_err(|_| Error::Format {
-                path: file.clone(),
-                format: "scene TOML",
-                message: "not UTF-8 text".into(),
-            })?;
-            let d = SceneDesc::from_toml(&text, &file.display().to_string())?;
-            (d, file.parent().map(Path::to_path_buf).unwrap_or_default())
-        }
-        None => {
-            let mut d = SceneDesc::default();
-            d.input.cloud = a.inputs.first().cloned();
-            if a.inputs.len() > 1 {
-                d.input.clouds = Some(a.inputs[1..].to_vec());
-            }
-            (d, PathBuf::new())
-        }
-    };
-    macro_rules! set {
-        ($field:expr, $flag:expr) => {
-            if let Some(v) = $flag.clone() {
-                $field = Some(v);
-            }
-        };
-    }
+    let (mut d, base) = read_scene(a)?;
     if let Some(p) = &a.preset {
+        // A preset given here replaces the scene file's knobs it fills.
         let r = &mut d.render;
         (r.spp, r.max_depth, r.min_weight, r.shading, r.wavelengths) =
             (None, None, None, None, None);
         r.roulette = None;
         r.preset = Some(p.clone());
     }
-    set!(d.film.primitive, a.primitive);
-    set!(d.render.spp, a.spp);
-    set!(d.render.seed, a.seed);
-    set!(d.render.shading, a.shading);
-    set!(d.render.wavelengths, a.wavelengths);
-    set!(d.render.strategy, a.strategy);
-    set!(d.render.max_depth, a.max_depth);
-    set!(d.render.roulette, a.roulette);
-    set!(d.film.ior, a.ior);
-    set!(d.film.thickness_unit, a.thickness_unit);
-    set!(d.film.thickness_scale, a.thickness_scale);
-    set!(d.input.thickness_attr, a.thickness_attr);
-    set!(d.input.normal_attr, a.normal_attr);
-    set!(d.input.radius_attr, a.radius_attr);
-    set!(d.film.default_thickness_nm, a.default_thickness);
-    set!(d.film.radius_scale, a.radius_scale);
-    set!(d.environment.rotation, a.env_rotation);
-    set!(d.environment.intensity, a.env_intensity);
-    set!(d.camera.position, a.camera);
-    set!(d.camera.look_at, a.look_at);
-    set!(d.camera.fov, a.fov);
-    set!(d.output.exposure, a.exposure);
-    set!(d.camera.aperture, a.aperture);
-    set!(d.render.light_samples, a.light_samples);
-    set!(d.camera.focus_distance, a.focus_distance);
-    set!(d.output.white_balance, a.white_balance);
-    set!(d.output.contrast, a.contrast);
-    set!(d.output.saturation, a.saturation);
-    set!(d.output.tonemap, a.tonemap);
-    set!(d.render.view, a.view);
-    set!(d.render.view_range, a.view_range);
-    if a.repair {
-        d.input.repair = Some(true);
-    }
-    if a.raw_radii {
-        d.film.fit_radii = Some(false);
-    }
-    if a.flat_splats {
-        d.film.curvature = Some(false);
-    }
-    if a.no_blend {
-        d.film.blend = Some(false);
-    }
+    film_flags(&mut d, a);
+    render_flags(&mut d, a);
+    view_flags(&mut d, a);
     if let Some(f) = a.frame {
-        let expand = |p: &mut PathBuf| -> Result<()> {
-            if let Some(e) = sequence::expand(&p.to_string_lossy(), f)? {
-                *p = PathBuf::from(e);
-            }
-            Ok(())
-        };
-        d.input.cloud.iter_mut().try_for_each(expand)?;
-        d.input.clouds.iter_mut().flatten().try_for_each(expand)?;
-        if d.input.sample.is_some() {
-            // A generated sample animates at 24 frames a second from its scene time.
-            d.input.time = Some(d.input.time.unwrap_or(0.0) + f as f32 / super::sample::FPS);
-        }
-    }
-    if let Some((w, h)) = a.size {
-        d.render.width = Some(w);
-        d.render.height = Some(h);
+        crate::pipeline::sequence::at_frame(&mut d, f, super::sample::FPS)?;
     }
     if let Some(env) = &a.env {
-        match env.as_str() {
-            "studio" => d.environment.kind = Some("studio".into()),
-            "white" => {
-                d.environment.kind = Some("uniform".into());
-                d.environment.colour = Some([1.0; 3]);
-            }
-            path => {
-                d.environment.kind = Some("map".into());
-                // A path given on the command line is relative to the working directory.
-                d.environment.map =
-                    Some(std::path::absolute(path).map_err(|e| Error::io(path, e))?);
-            }
-        }
+        environment_flag(&mut d, env)?;
     }
     Ok((d, base))
+}
+
+/// The scene file's description and folder, or a default description around the inputs.
+fn read_scene(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
+    let Some(file) = a.scene_file()? else {
+        let mut d = SceneDesc::default();
+        d.input.cloud = a.inputs.first().cloned();
+        if a.inputs.len() > 1 {
+            d.input.clouds = Some(a.inputs[1..].to_vec());
+        }
+        return Ok((d, PathBuf::new()));
+    };
+    // Scene files are small: at most 16 MiB, never a device.
+    let bytes = crate::io::input::read_small(file, 16 << 20)?;
+    let text = String::from_utf8(bytes).map_err(|_| Error::Format {
+        path: file.clone(),
+        format: "scene TOML",
+        message: "not UTF-8 text".into(),
+    })?;
+    let d = SceneDesc::from_toml(&text, &file.display().to_string())?;
+    Ok((d, file.parent().map(Path::to_path_buf).unwrap_or_default()))
+}
+
+/// `field` = the flag's value, if the flag is given.
+fn over<T: Clone>(field: &mut Option<T>, flag: &Option<T>) {
+    if let Some(v) = flag {
+        *field = Some(v.clone());
+    }
+}
+
+/// The flags of `[input]` and `[film]`.
+fn film_flags(d: &mut SceneDesc, a: &RenderArgs) {
+    let (i, f) = (&mut d.input, &mut d.film);
+    over(&mut f.primitive, &a.primitive);
+    over(&mut f.ior, &a.ior);
+    over(&mut f.thickness_unit, &a.thickness_unit);
+    over(&mut f.thickness_scale, &a.thickness_scale);
+    over(&mut i.thickness_attr, &a.thickness_attr);
+    over(&mut i.normal_attr, &a.normal_attr);
+    over(&mut i.radius_attr, &a.radius_attr);
+    over(&mut f.default_thickness_nm, &a.default_thickness);
+    over(&mut f.radius_scale, &a.radius_scale);
+    let off = |flag: bool| flag.then_some(false);
+    over(&mut i.repair, &a.repair.then_some(true));
+    over(&mut f.fit_radii, &off(a.raw_radii));
+    over(&mut f.curvature, &off(a.flat_splats));
+    over(&mut f.blend, &off(a.no_blend));
+}
+
+/// The flags of `[render]` (sampling), `[environment]`'s numbers and `[camera]`.
+fn render_flags(d: &mut SceneDesc, a: &RenderArgs) {
+    let r = &mut d.render;
+    over(&mut r.spp, &a.spp);
+    over(&mut r.seed, &a.seed);
+    over(&mut r.shading, &a.shading);
+    over(&mut r.wavelengths, &a.wavelengths);
+    over(&mut r.strategy, &a.strategy);
+    over(&mut r.max_depth, &a.max_depth);
+    over(&mut r.roulette, &a.roulette);
+    over(&mut r.light_samples, &a.light_samples);
+    if let Some((w, h)) = a.size {
+        (r.width, r.height) = (Some(w), Some(h));
+    }
+    over(&mut d.environment.rotation, &a.env_rotation);
+    over(&mut d.environment.intensity, &a.env_intensity);
+    let c = &mut d.camera;
+    over(&mut c.position, &a.camera);
+    over(&mut c.look_at, &a.look_at);
+    over(&mut c.fov, &a.fov);
+    over(&mut c.aperture, &a.aperture);
+    over(&mut c.focus_distance, &a.focus_distance);
+}
+
+/// The flags of `[output]` and the view.
+fn view_flags(d: &mut SceneDesc, a: &RenderArgs) {
+    let o = &mut d.output;
+    over(&mut o.exposure, &a.exposure);
+    over(&mut o.white_balance, &a.white_balance);
+    over(&mut o.contrast, &a.contrast);
+    over(&mut o.saturation, &a.saturation);
+    over(&mut o.tonemap, &a.tonemap);
+    over(&mut d.render.view, &a.view);
+    over(&mut d.render.view_range, &a.view_range);
+}
+
+/// `--env`: studio, white (uniform white), or a map's path (relative to the working
+/// directory).
+fn environment_flag(d: &mut SceneDesc, env: &str) -> Result<()> {
+    let e = &mut d.environment;
+    match env {
+        "studio" => e.kind = Some("studio".into()),
+        "white" => {
+            e.kind = Some("uniform".into());
+            e.colour = Some([1.0; 3]);
+        }
+        path => {
+            e.kind = Some("map".into());
+            e.map = Some(std::path::absolute(path).map_err(|x| Error::io(path, x))?);
+        }
+    }
+    Ok(())
 }
 
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
@@ -499,22 +272,6 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
     result
 }
 
-/// Refuses an output that is neither .png nor .exr.
-pub(super) fn check_extension(p: &Path) -> Result<()> {
-    let ext = p
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if matches!(ext.as_deref(), Some("png" | "exr")) {
-        Ok(())
-    } else {
-        Err(Error::invalid(format!(
-            "{}: output must end in .png or .exr",
-            p.display()
-        )))
-    }
-}
-
 /// Checks everything that can be checked before loading: output names, the estimated peak
 /// memory against --max-memory or the machine's available memory, the output folders
 /// (created); then prepares the scene. `progress` shows the render's progress bar.
@@ -523,7 +280,7 @@ pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> 
     let output = output_path(a, &desc, &base);
     let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
     for p in &outputs {
-        check_extension(p)?;
+        pipeline::check_extension(p)?;
     }
     if let Some(bytes) = a.max_memory {
         crate::budget::set_allowance(bytes);
@@ -571,7 +328,7 @@ pub(super) fn render_one(
         for note in prepared
             .notes
             .iter()
-            .filter(|n| !n.is_empty() && !n.contains("nothing to fill"))
+            .filter(|n| !n.text.is_empty() && !n.routine)
         {
             let _ = writeln!(out, "{note}");
         }

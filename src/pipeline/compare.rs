@@ -159,7 +159,7 @@ pub fn prepare_variant(
         }
         GeometryChoice::Reconstructed => {
             let (m, meshing, note) = reconstruct(desc, base)?;
-            prepared.notes.push(note);
+            prepared.note(note);
             let t = Instant::now();
             mesh_into(&mut prepared, desc, base, m, mesh, "reconstructed mesh")?;
             (Some(meshing), Some(t.elapsed()))
@@ -221,8 +221,7 @@ fn mesh_into(
     let thickness = match vertices.thickness_nm {
         Some(mut t) => {
             t.iter_mut().for_each(|v| *v *= scale);
-            p.notes
-                .push(format!("{label}: thickness from the mesh's vertices"));
+            p.note(format!("{label}: thickness from the mesh's vertices"));
             t
         }
         None => {
@@ -230,7 +229,7 @@ fn mesh_into(
             match cloud.thickness_nm {
                 Some(ct) => {
                     let ct: Vec<f32> = ct.iter().map(|v| v * scale).collect();
-                    p.notes.push(format!(
+                    p.note(format!(
                         "{label}: no thickness; transferred from the {} particles ({})",
                         cloud.positions.len(),
                         match opts.transfer {
@@ -247,7 +246,7 @@ fn mesh_into(
                     )
                 }
                 None => {
-                    p.notes.push(format!(
+                    p.note(format!(
                         "{label}: neither the mesh nor the cloud has thickness; {default} nm"
                     ));
                     vec![default; vertices.positions.len()]
@@ -266,15 +265,15 @@ fn mesh_into(
         (ShellOption::Merge(Some(d)), _) => g.set_sides(MeshSides::Merge(d)),
         (ShellOption::Merge(None), Some(w)) => {
             g.set_sides(MeshSides::Merge(1.5 * w));
-            p.notes.push(format!(
+            p.note(format!(
                 "{label}: thin closed shell (walls {w:.4} apart); merging hits within {:.4}",
                 1.5 * w
             ));
         }
-        (ShellOption::Merge(None), None) => p.notes.push(format!(
+        (ShellOption::Merge(None), None) => p.note(format!(
             "{label}: not a thin closed shell; every crossing is a film"
         )),
-        (ShellOption::Auto, Some(w)) => p.notes.push(format!(
+        (ShellOption::Auto, Some(w)) => p.note(format!(
             "warning: {label} looks like a thin closed shell (walls {w:.4} apart): every film \
              crossing is drawn twice; --shell merge draws one film per crossing"
         )),

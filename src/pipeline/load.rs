@@ -2,6 +2,7 @@
 //! repaired), deduplicated, scaled and completed (normals, radii, thickness estimated where
 //! missing, radii fitted to the sampling), the droplets kept apart.
 
+use super::Note;
 use super::config::FilmConfig;
 use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud, read_parts};
@@ -142,16 +143,16 @@ pub(super) fn nothing_loaded(desc: &SceneDesc, base: &Path) -> Error {
 /// and the films left empty.
 pub(super) fn split(
     parts: Vec<CloudPart>,
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> (Vec<CloudPart>, Vec<PointCloud>) {
     let mut films = Vec::new();
     let mut drops = Vec::new();
     for part in parts {
-        notes.extend(part.notes.iter().cloned());
+        notes.extend(part.notes.iter().map(Note::new));
         match part.kind {
             PartKind::Droplets => drops.push(part.cloud),
             PartKind::Film if part.cloud.is_empty() => {
-                notes.push(format!("{}: no film particles left", part.label));
+                notes.push(Note::new(format!("{}: no film particles left", part.label)));
             }
             PartKind::Film => films.push(part),
         }
@@ -196,7 +197,7 @@ pub(super) fn films(
     films: Vec<CloudPart>,
     film: &FilmConfig,
     repairing: bool,
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> Result<Films> {
     let single = films.len() == 1;
     let mut clouds = Vec::with_capacity(films.len());
@@ -228,29 +229,29 @@ fn complete(
     part: CloudPart,
     film: &FilmConfig,
     repairing: bool,
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> Result<(PointCloud, Option<KnnTable>, bool)> {
     let label = part.label;
     let mut cloud = part.cloud;
     let name = |e: Error| Error::invalid(format!("{label}: {e}"));
     if repairing {
-        notes.push(repair(&mut cloud).to_string());
+        notes.push(Note::new(repair(&mut cloud).to_string()));
     } else {
         validate(&cloud).map_err(name)?;
     }
     // Copies at one position would be a pile of identical disks no tree can split.
     let coincident = crate::pointcloud::dedupe::drop_coincident(&mut cloud);
     if coincident > 0 {
-        notes.push(format!(
+        notes.push(Note::new(format!(
             "{label}: {coincident} particles at the same position as an earlier one: drawn once"
-        ));
+        )));
     }
     let scale = film.thickness_scale;
     if let Some(t) = cloud.thickness_nm.as_mut().filter(|_| scale != 1.0) {
         t.iter_mut().for_each(|v| *v *= scale);
     }
     if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
-        notes.push(format!("{label}: {hint}"));
+        notes.push(Note::new(format!("{label}: {hint}")));
     }
     let had_radius = cloud.radius.is_some();
     let estimate = EstimateOptions {
@@ -258,7 +259,10 @@ fn complete(
         ..EstimateOptions::default()
     };
     let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate);
-    notes.push(report.to_string());
+    notes.push(Note {
+        text: report.to_string(),
+        routine: report.filled_nothing(),
+    });
     if repairing {
         validate(&cloud).map_err(name)?;
     }
@@ -269,7 +273,7 @@ fn complete(
         let normals = cloud.normals.as_deref().unwrap_or_default();
         if let Some(r) = cloud.radius.as_mut() {
             let fit = fit_radii(&cloud.positions, normals, r, t);
-            notes.push(format!("{label}: {fit}"));
+            notes.push(Note::new(format!("{label}: {fit}")));
         }
     }
     Ok((cloud, table, had_radius))

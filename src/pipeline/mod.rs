@@ -19,6 +19,7 @@ pub mod memory;
 mod output;
 #[cfg(feature = "reconstruct")]
 pub mod reconstruct;
+pub mod sequence;
 mod studio;
 
 pub use config::RenderConfig;
@@ -26,7 +27,9 @@ pub use framing::camera;
 pub use load::{
     check_sample_params, load_cloud, load_parts, thickness_unit_factor, thickness_unit_hint,
 };
-pub use output::{render_view, scene_aspect, write_image, write_output, write_view};
+pub use output::{
+    check_extension, render_view, scene_aspect, write_image, write_output, write_view,
+};
 
 use crate::Result;
 use crate::image::{Grade, ToneMap};
@@ -77,7 +80,39 @@ pub struct Prepared {
     /// Time spent building the acceleration structure.
     pub build_time: Duration,
     /// Notes for the user (what was estimated, defaults applied).
-    pub notes: Vec<String>,
+    pub notes: Vec<Note>,
+}
+
+impl Prepared {
+    /// Adds a note for the user.
+    pub fn note(&mut self, text: impl Into<String>) {
+        self.notes.push(Note::new(text));
+    }
+}
+
+/// A note for the user about what preparing a scene did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Note {
+    /// What happened (one or more lines).
+    pub text: String,
+    /// A routine report the CLI leaves out: an estimate that had nothing to fill.
+    pub routine: bool,
+}
+
+impl Note {
+    /// A note worth showing.
+    pub fn new(text: impl Into<String>) -> Self {
+        Note {
+            text: text.into(),
+            routine: false,
+        }
+    }
+}
+
+impl std::fmt::Display for Note {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text)
+    }
 }
 
 /// Builds everything the renderer needs from a scene description. `base` is the folder paths

@@ -114,3 +114,22 @@ pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
         ))),
     }
 }
+
+/// Refuses an output that is neither .png nor .exr.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the path.
+pub fn check_extension(p: &Path) -> Result<()> {
+    let ext = p
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if matches!(ext.as_deref(), Some("png" | "exr")) {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!(
+            "{}: output must end in .png or .exr",
+            p.display()
+        )))
+    }
+}

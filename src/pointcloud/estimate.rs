@@ -326,15 +326,21 @@ impl std::fmt::Display for EstimateReport {
         for n in &self.notes {
             writeln!(f, "  note: {n}")?;
         }
-        if self.normals_estimated
+        if self.filled_nothing() {
+            writeln!(f, "  nothing to fill")?;
+        }
+        Ok(())
+    }
+}
+
+impl EstimateReport {
+    /// True if nothing was estimated, rescaled or filled (the report says "nothing to fill").
+    pub fn filled_nothing(&self) -> bool {
+        self.normals_estimated
             + self.normals_normalised
             + self.radii_estimated
             + self.thickness_filled
             == 0
-        {
-            writeln!(f, "  nothing to fill")?;
-        }
-        Ok(())
     }
 }
 
