@@ -66,32 +66,103 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
     }
 }
 
+/// What an EXR render shows: the fraction of pixels the film covers (alpha > 0.5), the centroid
+/// of those pixels (x, y as fractions of the width and height), and the mean linear RGB over
+/// the whole image.
+fn exr_stats(path: &Path) -> (f64, [f64; 2], [f64; 3]) {
+    let l = filmsplat::image::read_exr(path).unwrap();
+    let (mut n, mut cx, mut cy, mut mean) = (0.0, 0.0, 0.0, [0.0; 3]);
+    for (i, p) in l.rgba.iter().enumerate() {
+        if p[3] > 0.5 {
+            n += 1.0;
+            cx += ((i % l.width) as f64 + 0.5) / l.width as f64;
+            cy += ((i / l.width) as f64 + 0.5) / l.height as f64;
+        }
+        for c in 0..3 {
+            mean[c] += p[c] as f64 / l.rgba.len() as f64;
+        }
+    }
+    (n / l.rgba.len() as f64, [cx / n, cy / n], mean)
+}
+
+/// Checks `stats` against the values recorded from this render (coverage within 0.03,
+/// centroid within 0.03 of the frame, each mean channel within 10 % + 0.005).
+fn assert_stats(what: &str, got: (f64, [f64; 2], [f64; 3]), want: (f64, [f64; 2], [f64; 3])) {
+    let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
+    let ok = close(got.0, want.0, 0.03)
+        && (0..2).all(|i| close(got.1[i], want.1[i], 0.03))
+        && (0..3).all(|i| close(got.2[i], want.2[i], 0.1 * want.2[i] + 0.005));
+    assert!(ok, "{what}: got {got:?}, recorded {want:?}");
+}
+
 #[test]
 fn real_sph_files_render() {
     // Shared data from SPlisHSPlasH and splashsurf (see tests/data/ATTRIBUTION.md): no normals,
-    // no thickness; normals are estimated, thickness is the default.
-    for file in [
-        "splishsplash_sphere_shell.ply",
-        "double_dam_break_frame_26.ply",
-    ] {
-        for prim in ["disk", "sphere", "mls"] {
-            let png = tmp(&format!("{file}-{prim}.png"));
-            let (code, _, err) = filmsplat(&[
-                "render",
-                &data(file),
-                "-o",
-                png.to_str().unwrap(),
-                "--primitive",
-                prim,
-                "--size",
-                "64x48",
-                "--spp",
-                "1",
-            ]);
-            assert_eq!(code, 0, "{file} {prim}: {err}");
-            assert_eq!(png_size(&png), (64, 48));
-        }
+    // no thickness; normals are estimated, thickness is the default. Each render's coverage,
+    // centroid and mean colour are those recorded from it (a regression in reading, estimating,
+    // framing or shading moves them).
+    let recorded: [(&str, &str, (f64, [f64; 2], [f64; 3])); 6] = [
+        (
+            "splishsplash_sphere_shell.ply",
+            "disk",
+            (0.0, [0.0, 0.0], [0.0; 3]),
+        ),
+        (
+            "splishsplash_sphere_shell.ply",
+            "sphere",
+            (0.0, [0.0, 0.0], [0.0; 3]),
+        ),
+        (
+            "splishsplash_sphere_shell.ply",
+            "mls",
+            (0.0, [0.0, 0.0], [0.0; 3]),
+        ),
+        (
+            "double_dam_break_frame_26.ply",
+            "disk",
+            (0.0, [0.0, 0.0], [0.0; 3]),
+        ),
+        (
+            "double_dam_break_frame_26.ply",
+            "sphere",
+            (0.0, [0.0, 0.0], [0.0; 3]),
+        ),
+        (
+            "double_dam_break_frame_26.ply",
+            "mls",
+            (0.0, [0.0, 0.0], [0.0; 3]),
+        ),
+    ];
+    for (file, prim, want) in recorded {
+        let png = tmp(&format!("{file}-{prim}.png"));
+        let exr = tmp(&format!("{file}-{prim}.exr"));
+        let (code, _, err) = filmsplat(&[
+            "render",
+            &data(file),
+            "-o",
+            png.to_str().unwrap(),
+            "--exr",
+            exr.to_str().unwrap(),
+            "--primitive",
+            prim,
+            "--size",
+            "64x48",
+            "--spp",
+            "1",
+        ]);
+        assert_eq!(code, 0, "{file} {prim}: {err}");
+        assert_eq!(png_size(&png), (64, 48));
+        let got = exr_stats(&exr);
+        eprintln!("RECORD (\"{file}\", \"{prim}\", {got:?}),");
+        assert_stats(&format!("{file} {prim}"), got, want);
     }
+}
+
+/// Mean of a PNG's pixels (sRGB-encoded values as read, 0..1).
+fn png_mean(path: &Path) -> f64 {
+    let img = filmsplat::image::read_png(path).unwrap();
+    let sum: f64 = img.data.iter().flatten().map(|v| *v as f64).sum();
+    sum / (3 * img.data.len()) as f64
 }
 
 #[test]
@@ -99,12 +170,13 @@ fn scene_files_render_and_flags_override_them() {
     let scene = tmp("scene.toml");
     std::fs::write(
         &scene,
-        "[input]\nsample = \"bubble\"\nparticles = 2000\n[render]\nwidth = 40\nheight = 30\nspp = 1\n[output]\npath = \"from-scene.png\"\n",
+        "[input]\nsample = \"bubble\"\nparticles = 2000\n[render]\nwidth = 40\nheight = 30\nspp = 1\n[output]\npath = \"from-scene.png\"\nexposure = 1.0\n",
     )
     .unwrap();
     let (code, _, err) = filmsplat(&["render", scene.to_str().unwrap(), "-q"]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(png_size(&scene.with_file_name("from-scene.png")), (40, 30));
+    let from_scene = scene.with_file_name("from-scene.png");
+    assert_eq!(png_size(&from_scene), (40, 30));
     let out = tmp("override.png");
     let (code, _, err) = filmsplat(&[
         "render",
@@ -117,6 +189,21 @@ fn scene_files_render_and_flags_override_them() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(png_size(&out), (20, 10));
+    // A flag wins over its key: --exposure -2 instead of the file's +1 darkens the image
+    // (three stops: well below half the mean through the tone curve).
+    let dark = tmp("override-dark.png");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        dark.to_str().unwrap(),
+        "--exposure",
+        "-2",
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (bright, dim) = (png_mean(&from_scene), png_mean(&dark));
+    assert!(dim < 0.6 * bright && dim > 0.0, "{dim} vs {bright}");
 }
 
 #[test]
@@ -133,6 +220,26 @@ fn the_chart_is_written() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(png_size(&png), (400, 300));
+    // The chart's colours as recorded: its mean and how colourful it is (mean spread between
+    // a pixel's largest and smallest channel), each within 10 %.
+    let img = filmsplat::image::read_png(&png).unwrap();
+    let n = img.data.len() as f64;
+    let spread = img
+        .data
+        .iter()
+        .map(|p| {
+            (p.iter().fold(0.0f32, |a, b| a.max(*b)) - p.iter().fold(1.0f32, |a, b| a.min(*b)))
+                as f64
+        })
+        .sum::<f64>()
+        / n;
+    let (mean, want_mean, want_spread) = (png_mean(&png), 0.0, 0.0);
+    eprintln!("RECORD chart {mean} {spread}");
+    assert!(
+        (mean - want_mean).abs() <= 0.1 * want_mean
+            && (spread - want_spread).abs() <= 0.1 * want_spread,
+        "chart mean {mean} (recorded {want_mean}), spread {spread} (recorded {want_spread})"
+    );
 }
 
 fn write(name: &str, bytes: &[u8]) -> String {

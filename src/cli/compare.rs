@@ -112,6 +112,18 @@ struct FrameResult {
 
 /// Runs `filmsplat compare`.
 pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
+    let (mesh, output) = checked(a)?;
+    let Some(frames) = &a.render.frames else {
+        crate::atomic::prepare_output(&output)?;
+        let r = compare_one(a, &mesh, None, &output, out)?;
+        report(a, std::slice::from_ref(&r), None, out);
+        return Ok(());
+    };
+    compare_frames(a, &mesh, &frames.0, &output, out)
+}
+
+/// The mesh options and the output of `a`, after refusing what compare does not take.
+fn checked(a: &CompareArgs) -> Result<(MeshOptions, PathBuf)> {
     let mesh = MeshOptions {
         shell: a.shell.parse::<ShellOption>()?,
         transfer: transfer(&a.transfer)?,
@@ -159,19 +171,25 @@ pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
             output.display()
         )));
     }
-    let Some(frames) = &a.render.frames else {
-        crate::atomic::prepare_output(&output)?;
-        let r = compare_one(a, &mesh, None, &output, out)?;
-        report(a, std::slice::from_ref(&r), None, out);
-        return Ok(());
-    };
+    Ok((mesh, output))
+}
+
+/// Compares the frames of `--frames` (this shard's), each figure at `output`'s pattern; then
+/// reports them with the flicker between consecutive frames.
+fn compare_frames(
+    a: &CompareArgs,
+    mesh: &MeshOptions,
+    frames: &[u64],
+    output: &Path,
+    out: &mut dyn Write,
+) -> Result<()> {
     let out_pattern = output.to_string_lossy().into_owned();
     if sequence::expand(&out_pattern, 0)?.is_none() {
         return Err(Error::invalid(format!(
             "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
         )));
     }
-    let mine = sequence::sharded(&frames.0, a.render.shard);
+    let mine = sequence::sharded(frames, a.render.shard);
     // Fail before the work: every folder the figures go in exists and takes files.
     let mut ready = std::collections::BTreeSet::new();
     for &f in &mine {
@@ -184,7 +202,7 @@ pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
     let mut flicker = [0.0f64; 2];
     for &f in &mine {
         let target = PathBuf::from(sequence::expand(&out_pattern, f)?.expect("checked"));
-        let r = compare_one(a, &mesh, Some(f), &target, out)
+        let r = compare_one(a, mesh, Some(f), &target, out)
             .map_err(|e| Error::invalid(format!("frame {f}: {e}")))?;
         if let Some(prev) = results.last() {
             for (k, fl) in flicker.iter_mut().enumerate() {
@@ -357,39 +375,7 @@ fn report(
     out: &mut dyn Write,
 ) {
     if a.json {
-        let body = if let [r] = results
-            && r.frame.is_none()
-        {
-            format!(
-                "{{\"a\":{},\"b\":{},{},\"output\":{}}}",
-                side_json(&r.sides[0]),
-                side_json(&r.sides[1]),
-                metrics_json(&r.metrics),
-                json_str(&r.output.display().to_string())
-            )
-        } else {
-            let frames: Vec<String> = results
-                .iter()
-                .map(|r| {
-                    format!(
-                        "{{\"frame\":{},\"a\":{},\"b\":{},{},\"output\":{}}}",
-                        r.frame.unwrap_or(0),
-                        side_json(&r.sides[0]),
-                        side_json(&r.sides[1]),
-                        metrics_json(&r.metrics),
-                        json_str(&r.output.display().to_string())
-                    )
-                })
-                .collect();
-            let t = temporal.map_or("null".into(), |t| {
-                format!("{{\"a\":{},\"b\":{}}}", num(t[0]), num(t[1]))
-            });
-            format!(
-                "{{\"frames\":[{}],\"temporal_delta_e\":{t}}}",
-                frames.join(",")
-            )
-        };
-        let _ = writeln!(out, "{body}");
+        let _ = writeln!(out, "{}", report_json(results, temporal));
         return;
     }
     if a.render.quiet {
@@ -439,4 +425,39 @@ fn report(
             t[0], t[1]
         );
     }
+}
+
+/// The `--json` report: one object for a single comparison, else the frames and the flicker.
+fn report_json(results: &[FrameResult], temporal: Option<[f64; 2]>) -> String {
+    if let [r] = results
+        && r.frame.is_none()
+    {
+        return format!(
+            "{{\"a\":{},\"b\":{},{},\"output\":{}}}",
+            side_json(&r.sides[0]),
+            side_json(&r.sides[1]),
+            metrics_json(&r.metrics),
+            json_str(&r.output.display().to_string())
+        );
+    }
+    let frames: Vec<String> = results
+        .iter()
+        .map(|r| {
+            format!(
+                "{{\"frame\":{},\"a\":{},\"b\":{},{},\"output\":{}}}",
+                r.frame.unwrap_or(0),
+                side_json(&r.sides[0]),
+                side_json(&r.sides[1]),
+                metrics_json(&r.metrics),
+                json_str(&r.output.display().to_string())
+            )
+        })
+        .collect();
+    let t = temporal.map_or("null".into(), |t| {
+        format!("{{\"a\":{},\"b\":{}}}", num(t[0]), num(t[1]))
+    });
+    format!(
+        "{{\"frames\":[{}],\"temporal_delta_e\":{t}}}",
+        frames.join(",")
+    )
 }

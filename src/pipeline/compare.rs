@@ -12,7 +12,7 @@ use crate::geometry::{MeshGeometry, MeshSides, Primitive};
 use crate::image::RgbImage;
 use crate::image::metrics::{DeltaEStats, delta_e_map, delta_e_stats, psnr, ssim};
 use crate::io::{ReadOptions, read_mesh};
-use crate::pointcloud::{Transfer, TriangleMesh, transfer_thickness};
+use crate::pointcloud::{PointCloud, Transfer, TriangleMesh, transfer_thickness};
 use crate::render::RenderOutput;
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
@@ -207,10 +207,8 @@ fn mesh_into(
     opts: &MeshOptions,
     label: &str,
 ) -> Result<()> {
-    let scale = desc.film.thickness_scale.unwrap_or(1.0);
-    let default = desc.film.default_thickness_nm.unwrap_or(500.0);
     let TriangleMesh {
-        vertices,
+        mut vertices,
         triangles,
     } = mesh;
     if triangles.is_empty() {
@@ -218,42 +216,7 @@ fn mesh_into(
             "{label}: the mesh has no triangles"
         )));
     }
-    let thickness = match vertices.thickness_nm {
-        Some(mut t) => {
-            t.iter_mut().for_each(|v| *v *= scale);
-            p.note(format!("{label}: thickness from the mesh's vertices"));
-            t
-        }
-        None => {
-            let cloud = load_cloud(desc, base)?;
-            match cloud.thickness_nm {
-                Some(ct) => {
-                    let ct: Vec<f32> = ct.iter().map(|v| v * scale).collect();
-                    p.note(format!(
-                        "{label}: no thickness; transferred from the {} particles ({})",
-                        cloud.positions.len(),
-                        match opts.transfer {
-                            Transfer::Nearest => "nearest particle".to_string(),
-                            Transfer::Kernel { k } => format!("SPH kernel over {k} neighbours"),
-                        }
-                    ));
-                    transfer_thickness(
-                        &cloud.positions,
-                        &ct,
-                        &vertices.positions,
-                        opts.transfer,
-                        default,
-                    )
-                }
-                None => {
-                    p.note(format!(
-                        "{label}: neither the mesh nor the cloud has thickness; {default} nm"
-                    ));
-                    vec![default; vertices.positions.len()]
-                }
-            }
-        }
-    };
+    let thickness = mesh_thickness(p, desc, base, &mut vertices, opts.transfer, label)?;
     let normals = vertices.normals.unwrap_or_default();
     let mut g = MeshGeometry::build(&vertices.positions, &triangles, &normals, &thickness)
         .map_err(|e| Error::invalid(format!("{label}: {e}")))?;
@@ -283,6 +246,48 @@ fn mesh_into(
     p.scene.layer_skip = p.scene.epsilon;
     p.scene.geometry = g.into();
     Ok(())
+}
+
+/// A mesh's thickness, nm: its vertices' own (scaled), else transferred from the scene's
+/// particles, else the default; says which in a note.
+fn mesh_thickness(
+    p: &mut Prepared,
+    desc: &SceneDesc,
+    base: &Path,
+    vertices: &mut PointCloud,
+    transfer: Transfer,
+    label: &str,
+) -> Result<Vec<f32>> {
+    let scale = desc.film.thickness_scale.unwrap_or(1.0);
+    let default = desc.film.default_thickness_nm.unwrap_or(500.0);
+    if let Some(mut t) = vertices.thickness_nm.take() {
+        t.iter_mut().for_each(|v| *v *= scale);
+        p.note(format!("{label}: thickness from the mesh's vertices"));
+        return Ok(t);
+    }
+    let cloud = load_cloud(desc, base)?;
+    let Some(ct) = cloud.thickness_nm else {
+        p.note(format!(
+            "{label}: neither the mesh nor the cloud has thickness; {default} nm"
+        ));
+        return Ok(vec![default; vertices.positions.len()]);
+    };
+    let ct: Vec<f32> = ct.iter().map(|v| v * scale).collect();
+    p.note(format!(
+        "{label}: no thickness; transferred from the {} particles ({})",
+        cloud.positions.len(),
+        match transfer {
+            Transfer::Nearest => "nearest particle".to_string(),
+            Transfer::Kernel { k } => format!("SPH kernel over {k} neighbours"),
+        }
+    ));
+    Ok(transfer_thickness(
+        &cloud.positions,
+        &ct,
+        &vertices.positions,
+        transfer,
+        default,
+    ))
 }
 
 /// Reconstructs a mesh around the scene's cloud (cargo feature `reconstruct`); returns it with

@@ -59,15 +59,31 @@ pub fn staging(desc: &SceneDesc, base: &Path, centre: Vec3, eps: f32) -> Result<
 fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
     let e = |msg: String| err("light", i, l.line, msg);
     let position = finite(l.position).ok_or_else(|| e("position must be finite".into()))?;
-    let mut blackbody = None;
+    let (radiance, blackbody) = light_radiance(l, &e)?;
+    if radiance.min_element() < 0.0 {
+        return Err(e(format!("radiance must be >= 0, got {radiance}")));
+    }
+    Ok(AreaLight {
+        shape: light_shape(l, position, centre, &e)?,
+        radiance,
+        blackbody,
+    })
+}
+
+/// A light's radiance (linear sRGB), from `radiance`, or from `luminance` with a `colour` or a
+/// black-body `temperature` (then also its spectrum).
+fn light_radiance(l: &LightDesc, e: &dyn Fn(String) -> Error) -> Result<(Vec3, Option<Blackbody>)> {
     if l.temperature.is_some() && (l.colour.is_some() || l.luminance.is_none()) {
         return Err(e(
             "temperature goes with luminance (nits) and replaces colour".into(),
         ));
     }
-    let radiance = match (l.radiance, l.luminance) {
-        (Some(_), Some(_)) => return Err(e("give radiance or luminance, not both".into())),
-        (Some(r), None) => finite(r).ok_or_else(|| e("radiance must be finite".into()))?,
+    match (l.radiance, l.luminance) {
+        (Some(_), Some(_)) => Err(e("give radiance or luminance, not both".into())),
+        (Some(r), None) => Ok((
+            finite(r).ok_or_else(|| e("radiance must be finite".into()))?,
+            None,
+        )),
         (None, Some(nits)) if l.temperature.is_some() => {
             let k = l.temperature.unwrap_or_default();
             if !(k.is_finite() && (500.0..=50_000.0).contains(&k)) {
@@ -79,8 +95,7 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
             let mut b = Blackbody::new(k);
             let y = nits / NITS_PER_UNIT;
             b.scale *= y;
-            blackbody = Some(b);
-            Vec3::from(b.rgb).max(Vec3::ZERO) * y
+            Ok((Vec3::from(b.rgb).max(Vec3::ZERO) * y, Some(b)))
         }
         (None, Some(nits)) => {
             let c = finite(l.colour.unwrap_or([1.0; 3]))
@@ -89,13 +104,20 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
             if y <= 0.0 {
                 return Err(e("colour must have a positive luminance".into()));
             }
-            c / y * (nits / NITS_PER_UNIT)
+            Ok((c / y * (nits / NITS_PER_UNIT), None))
         }
-        (None, None) => return Err(e("needs radiance = [r, g, b] or luminance (nits)".into())),
-    };
-    if radiance.min_element() < 0.0 {
-        return Err(e(format!("radiance must be >= 0, got {radiance}")));
+        (None, None) => Err(e("needs radiance = [r, g, b] or luminance (nits)".into())),
     }
+}
+
+/// A light's shape at `position`: a rect or disk facing its `normal` or `look_at` (default
+/// `centre`), or a sphere.
+fn light_shape(
+    l: &LightDesc,
+    position: Vec3,
+    centre: Vec3,
+    e: &dyn Fn(String) -> Error,
+) -> Result<LightShape> {
     let facing = || -> Result<Vec3> {
         match (l.normal, l.look_at) {
             (Some(n), _) => unit(n).ok_or_else(|| e("normal must be a non-zero direction".into())),
@@ -108,7 +130,7 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
         }
     };
     let radius = || positive(l.radius).ok_or_else(|| e("radius must be given and > 0".into()));
-    let shape = match l.shape.get_ref().as_str() {
+    match l.shape.get_ref().as_str() {
         "rect" | "rectangle" => {
             let n = facing()?;
             let [w, h] = l
@@ -123,44 +145,46 @@ fn light(i: usize, l: &LightDesc, centre: Vec3) -> Result<AreaLight> {
             let right = up.cross(n).try_normalize().unwrap_or(right);
             let v_dir = n.cross(right);
             // u × v must point along n: (right × (n × right)) = n.
-            LightShape::Rect {
+            Ok(LightShape::Rect {
                 centre: position,
                 u: right * (0.5 * w),
                 v: v_dir * (0.5 * h),
-            }
+            })
         }
-        "disk" => LightShape::Disk {
+        "disk" => Ok(LightShape::Disk {
             centre: position,
             normal: facing()?,
             radius: radius()?,
-        },
-        "sphere" => LightShape::Sphere {
+        }),
+        "sphere" => Ok(LightShape::Sphere {
             centre: position,
             radius: radius()?,
-        },
-        "point" | "directional" => {
-            return Err(e(format!(
-                "shape = \"{}\": a film is a perfect mirror and would never show a light without \
-                 area; use a small \"sphere\" (or \"disk\") instead",
-                l.shape.get_ref()
-            )));
-        }
-        other => {
-            return Err(e(format!(
-                "shape: unknown '{other}' (expected rect, disk or sphere)"
-            )));
-        }
-    };
-    Ok(AreaLight {
-        shape,
-        radiance,
-        blackbody,
-    })
+        }),
+        "point" | "directional" => Err(e(format!(
+            "shape = \"{}\": a film is a perfect mirror and would never show a light without \
+             area; use a small \"sphere\" (or \"disk\") instead",
+            l.shape.get_ref()
+        ))),
+        other => Err(e(format!(
+            "shape: unknown '{other}' (expected rect, disk or sphere)"
+        ))),
+    }
 }
 
 fn prop(i: usize, p: &PropDesc, base: &Path) -> Result<(Shape, Material)> {
     let e = |msg: String| err("prop", i, p.line, msg);
     let position = finite(p.position).ok_or_else(|| e("position must be finite".into()))?;
+    let shape = prop_shape(p, position, base, &e)?;
+    Ok((shape, prop_material(p, &e)?))
+}
+
+/// A prop's shape at `position`.
+fn prop_shape(
+    p: &PropDesc,
+    position: Vec3,
+    base: &Path,
+    e: &dyn Fn(String) -> Error,
+) -> Result<Shape> {
     let axis = || {
         unit(p.axis.unwrap_or([0.0, 1.0, 0.0]))
             .ok_or_else(|| e("axis must be a non-zero direction".into()))
@@ -205,34 +229,42 @@ fn prop(i: usize, p: &PropDesc, base: &Path) -> Result<(Shape, Material)> {
                 minor,
             }
         }
-        "mesh" => {
-            let file = p
-                .file
-                .as_ref()
-                .ok_or_else(|| e("file = \"mesh.obj\" (or a PLY mesh) is required".into()))?;
-            let scale = p.scale.unwrap_or(1.0);
-            if !(scale.is_finite() && scale > 0.0) {
-                return Err(e(format!("scale must be > 0, got {scale}")));
-            }
-            // OBJ or PLY (faces), through the same readers as meshes compared with splats.
-            let mesh = read_mesh(&base.join(file), &ReadOptions::default())
-                .map_err(|x| e(x.to_string()))?;
-            let vertices: Vec<Vec3> = mesh
-                .vertices
-                .positions
-                .iter()
-                .map(|v| *v * scale + position)
-                .collect();
-            Shape::Mesh(Arc::new(
-                Mesh::new(&vertices, &mesh.triangles).map_err(|x| e(x.to_string()))?,
-            ))
-        }
+        "mesh" => mesh(p, position, base, e)?,
         other => {
             return Err(e(format!(
                 "shape: unknown '{other}' (expected plane, sphere, box, cylinder, torus or mesh)"
             )));
         }
     };
+    Ok(shape)
+}
+
+/// A mesh prop: its OBJ or PLY file's triangles, scaled, then moved to `position`.
+fn mesh(p: &PropDesc, position: Vec3, base: &Path, e: &dyn Fn(String) -> Error) -> Result<Shape> {
+    let file = p
+        .file
+        .as_ref()
+        .ok_or_else(|| e("file = \"mesh.obj\" (or a PLY mesh) is required".into()))?;
+    let scale = p.scale.unwrap_or(1.0);
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(e(format!("scale must be > 0, got {scale}")));
+    }
+    // OBJ or PLY (faces), through the same readers as meshes compared with splats.
+    let mesh =
+        read_mesh(&base.join(file), &ReadOptions::default()).map_err(|x| e(x.to_string()))?;
+    let vertices: Vec<Vec3> = mesh
+        .vertices
+        .positions
+        .iter()
+        .map(|v| *v * scale + position)
+        .collect();
+    Ok(Shape::Mesh(Arc::new(
+        Mesh::new(&vertices, &mesh.triangles).map_err(|x| e(x.to_string()))?,
+    )))
+}
+
+/// A prop's material and its colour and roughness.
+fn prop_material(p: &PropDesc, e: &dyn Fn(String) -> Error) -> Result<Material> {
     let colour = finite(p.colour.unwrap_or([0.8; 3]))
         .filter(|c| c.min_element() >= 0.0 && c.max_element() <= 1.0)
         .ok_or_else(|| e("colour must be in 0..1".into()))?;
@@ -253,5 +285,5 @@ fn prop(i: usize, p: &PropDesc, base: &Path) -> Result<(Shape, Material)> {
             )));
         }
     };
-    Ok((shape, material))
+    Ok(material)
 }

@@ -1,0 +1,118 @@
+//! The peak-memory estimate (`pipeline::memory`) against a measured allocation: this test
+//! binary counts every heap byte through its global allocator and renders the bubble sample
+//! through the whole pipeline (generate, estimate, build, render, write a PNG).
+//!
+//! The estimate exists so a render is refused before the operating system kills it, so it must
+//! not fall below what is measured; and it must not be so generous that it refuses renders that
+//! fit: the measured per-particle cost must be at least half the estimated one, the whole
+//! measured peak (heap only: the estimate's fixed part also covers program and stacks) within
+//! a factor 2 of the estimate's.
+
+use filmsplat::pipeline::{memory, prepare, render, write_image};
+use filmsplat::scene::SceneDesc;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::path::Path;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// The system allocator, counting the bytes live now and the most live since the last reset.
+struct Counting;
+
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+            PEAK.fetch_max(live, Ordering::Relaxed);
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(p, layout) };
+        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
+    }
+
+    unsafe fn realloc(&self, p: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let q = unsafe { System.realloc(p, layout, new_size) };
+        if !q.is_null() {
+            if new_size > layout.size() {
+                let grown = new_size - layout.size();
+                let live = LIVE.fetch_add(grown, Ordering::Relaxed) + grown;
+                PEAK.fetch_max(live, Ordering::Relaxed);
+            } else {
+                LIVE.fetch_sub(layout.size() - new_size, Ordering::Relaxed);
+            }
+        }
+        q
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// One measurement at a time (the counters are global).
+static SERIAL: Mutex<()> = Mutex::new(());
+
+/// The bubble sample of `particles` at `width`×`height`, rendered to a PNG: (heap bytes live at
+/// the peak above those live before, the estimate).
+fn measure(particles: usize, width: usize, height: usize) -> (u64, memory::MemoryEstimate) {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let toml = format!(
+        "[input]\nsample = \"bubble\"\nparticles = {particles}\n\
+         [render]\nwidth = {width}\nheight = {height}\nspp = 1\n"
+    );
+    let desc = SceneDesc::from_toml(&toml, "inline").unwrap();
+    let estimate = memory::estimate_scene(&desc, Path::new("."), false).unwrap();
+    let png = std::env::temp_dir().join(format!(
+        "filmsplat-memory-{}-{particles}.png",
+        std::process::id()
+    ));
+    let before = LIVE.load(Ordering::Relaxed);
+    PEAK.store(before, Ordering::Relaxed);
+    {
+        let prepared = prepare(&desc, Path::new("."), false).unwrap();
+        let out = render(&prepared).unwrap();
+        write_image(&prepared, &out, &png).unwrap();
+    }
+    let peak = PEAK.load(Ordering::Relaxed).saturating_sub(before) as u64;
+    let _ = std::fs::remove_file(&png);
+    (peak, estimate)
+}
+
+#[test]
+fn the_estimate_holds_the_measured_peak_without_wasting_much() {
+    let (small, e_small) = measure(50_000, 64, 48);
+    let (big, e_big) = measure(250_000, 64, 48);
+    // Per particle: the difference between the two sizes, so fixed costs cancel.
+    let measured = (big - small) as f64 / 200_000.0;
+    let estimated = (e_big.total() - e_small.total()) as f64 / 200_000.0;
+    assert!(
+        measured <= estimated && measured >= 0.5 * estimated,
+        "measured {measured:.1} B/particle, estimated {estimated:.1}"
+    );
+    // The whole peak of the larger render, heap only.
+    let heap_estimate = (e_big.total() - e_big.fixed) as f64;
+    let ratio = big as f64 / heap_estimate;
+    assert!(
+        (0.5..=1.0).contains(&ratio),
+        "measured peak {big} B is {ratio:.2} of the estimate's {heap_estimate} B"
+    );
+}
+
+#[test]
+fn the_estimate_holds_the_measured_image_buffers() {
+    // Few particles, many pixels: the image buffers dominate.
+    let (small, e_small) = measure(2_000, 160, 120);
+    let (big, e_big) = measure(2_000, 800, 600);
+    let pixels = (800.0 * 600.0) - (160.0 * 120.0);
+    let measured = (big - small) as f64 / pixels;
+    let estimated = (e_big.image - e_small.image) as f64 / pixels;
+    assert!(
+        measured <= estimated && measured >= 0.5 * estimated,
+        "measured {measured:.1} B/pixel, estimated {estimated:.1}"
+    );
+}
