@@ -97,6 +97,7 @@ fn the_estimate_holds_the_measured_peak_without_wasting_much() {
     // The whole peak of the larger render, heap only.
     let heap_estimate = (e_big.total() - e_big.fixed) as f64;
     let ratio = big as f64 / heap_estimate;
+    eprintln!("{measured:.1} of {estimated:.1} B/particle; peak {ratio:.2} of the estimate");
     assert!(
         (0.5..=1.0).contains(&ratio),
         "measured peak {big} B is {ratio:.2} of the estimate's {heap_estimate} B"
@@ -111,6 +112,7 @@ fn the_estimate_holds_the_measured_image_buffers() {
     let pixels = (800.0 * 600.0) - (160.0 * 120.0);
     let measured = (big - small) as f64 / pixels;
     let estimated = (e_big.image - e_small.image) as f64 / pixels;
+    eprintln!("{measured:.1} of {estimated:.1} B/pixel");
     assert!(
         measured <= estimated && measured >= 0.5 * estimated,
         "measured {measured:.1} B/pixel, estimated {estimated:.1}"
