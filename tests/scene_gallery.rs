@@ -66,13 +66,13 @@ fn stats(out: &filmsplat::render::RenderOutput) -> Stats {
     (n / len, [cx / n, cy / n], mean)
 }
 
-/// Coverage within 0.03, centroid within 0.03 of the frame, each mean channel within 10 % +
-/// 0.005: a change in loading, framing, geometry or shading of any scene moves one of them.
+/// Coverage within 0.015, centroid within 0.02 of the frame, each mean channel within 3 % +
+/// 0.001 (the renders are deterministic; the slack is for other compilers' rounding): a change in loading, framing, geometry or shading of any scene moves one of them.
 fn assert_close(what: &str, got: Stats, want: Stats) {
     let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
-    let ok = close(got.0, want.0, 0.03)
-        && (0..2).all(|i| close(got.1[i], want.1[i], 0.03))
-        && (0..3).all(|i| close(got.2[i], want.2[i], 0.1 * want.2[i] + 0.005));
+    let ok = close(got.0, want.0, 0.015)
+        && (0..2).all(|i| close(got.1[i], want.1[i], 0.02))
+        && (0..3).all(|i| close(got.2[i], want.2[i], 0.03 * want.2[i] + 0.001));
     assert!(ok, "{what}: got {got:?}, recorded {want:?}");
 }
 
