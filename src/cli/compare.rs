@@ -6,14 +6,15 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 
-use super::render::{RenderArgs, scene_from_args};
-use super::sequence;
+use super::render_args::RenderArgs;
+use super::render_scene::scene_from_args;
 use crate::figure::side_by_side;
 use crate::image::{RgbImage, ToneMap, metrics::delta_e_map, save_png};
 use crate::pipeline::compare::{
     GeometryChoice, MeshOptions, Metrics, ShellOption, Variant, display_image, metrics,
     prepare_pair,
 };
+use crate::pipeline::sequence;
 use crate::pointcloud::Transfer;
 use crate::render::View;
 use crate::{Error, Result};

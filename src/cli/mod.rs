@@ -11,6 +11,8 @@ mod info;
 mod parse;
 mod render;
 mod render_args;
+mod render_one;
+mod render_scene;
 mod sample;
 mod sequence;
 mod stability;

@@ -161,3 +161,17 @@ mod tests {
         }
     }
 }
+
+/// A parsed list of frame numbers (`--frames`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameList(pub Vec<u64>);
+
+/// clap value parser for [`FrameList`]: `A..B` (B excluded), `A..=B` or `A`.
+pub fn frame_list(s: &str) -> std::result::Result<FrameList, String> {
+    crate::pipeline::sequence::frames(s).map(FrameList)
+}
+
+/// clap value parser for a shard `K/N` (0 <= K < N).
+pub fn shard(s: &str) -> std::result::Result<(u64, u64), String> {
+    crate::pipeline::sequence::shard(s)
+}

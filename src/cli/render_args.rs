@@ -1,6 +1,5 @@
 //! The flags of `filmsplat render` (and of `compare`, which renders the same way).
 
-use super::sequence;
 use crate::io::{NORMAL_ALIASES, RADIUS_ALIASES, THICKNESS_ALIASES};
 use crate::{Error, Result};
 use clap::Args;
@@ -167,11 +166,11 @@ pub struct RenderArgs {
     /// input.cloud) and the output contain a frame pattern, {} or {:04} (zero-padded), e.g.
     /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`. Each frame's seed
     /// is the seed plus the frame number.
-    #[arg(long, value_parser = super::sequence::frame_list)]
-    pub(super) frames: Option<sequence::FrameList>,
+    #[arg(long, value_parser = super::parse::frame_list)]
+    pub(super) frames: Option<super::parse::FrameList>,
     /// Render only every N-th frame of --frames, starting at the K-th (K/N, 0 <= K < N), so N
     /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
-    #[arg(long, value_parser = super::sequence::shard)]
+    #[arg(long, value_parser = super::parse::shard)]
     pub(super) shard: Option<(u64, u64)>,
     /// With --frames and no camera position: auto-frame the sequence's one camera on the union
     /// of all frames' bounds (each job then prepares every frame once more to measure it),

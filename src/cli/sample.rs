@@ -1,8 +1,9 @@
 //! `filmsplat sample`: write a built-in thin-film particle cloud, or a sequence of them.
 
-use super::sequence::{self, FrameList};
+use super::parse::{self as frame_parse, FrameList};
 use crate::io::{write_mesh_ply, write_ply};
 use crate::pipeline::check_sample_params;
+use crate::pipeline::sequence;
 use crate::samples::{SampleKind, SampleParams, icosphere, sparse};
 use crate::{Error, Result};
 use clap::Args;
@@ -51,7 +52,7 @@ pub struct SampleArgs {
     #[arg(long, default_value_t = 0.0, value_parser = super::parse::finite_f32)]
     time: f32,
     /// Write a sequence: frame f at time --time + f/24 s (A..B, A..=B or A).
-    #[arg(long, value_parser = sequence::frame_list)]
+    #[arg(long, value_parser = frame_parse::frame_list)]
     frames: Option<FrameList>,
     /// Radius of bubble-mesh, scene units (the bubble sample's is 1).
     #[arg(long, default_value_t = 1.0, value_parser = super::parse::finite_f32)]

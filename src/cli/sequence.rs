@@ -2,28 +2,15 @@
 //! checked, each frame's arguments); the loop itself is the library's
 //! ([`crate::pipeline::sequence`]).
 
-use super::render::{RenderArgs, prepare_frame, render_one, scene_from_args};
+use super::render_args::RenderArgs;
+use super::render_one::{prepare_frame, render_one};
+use super::render_scene::scene_from_args;
 use crate::pipeline::Prepared;
-use crate::pipeline::sequence::{FrameJob, SequenceOptions};
-pub use crate::pipeline::sequence::{expand, sharded};
+use crate::pipeline::sequence::{FrameJob, SequenceOptions, expand};
 use crate::scene::{CameraDesc, SceneDesc};
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::PathBuf;
-
-/// A parsed list of frame numbers.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct FrameList(pub Vec<u64>);
-
-/// clap value parser for [`FrameList`].
-pub fn frame_list(s: &str) -> std::result::Result<FrameList, String> {
-    crate::pipeline::sequence::frames(s).map(FrameList)
-}
-
-/// clap value parser for a shard `K/N` (0 <= K < N).
-pub fn shard(s: &str) -> std::result::Result<(u64, u64), String> {
-    crate::pipeline::sequence::shard(s)
-}
 
 /// Renders the sequence `frames` of `render --frames`: checks the patterns, then runs the
 /// library's loop over this command line's frames.

@@ -1,9 +1,10 @@
 //! `filmsplat stability`: temporal stability of a rendered sequence — the mean per-pixel
 //! CIEDE2000 change between adjacent frames, where the geometry moves little.
 
-use super::sequence::{self, FrameList};
+use super::parse::{self as frame_parse, FrameList};
 use crate::image::stability::frame_change;
 use crate::image::{RgbImage, read_exr, read_png};
+use crate::pipeline::sequence;
 use crate::{Error, Result};
 use clap::Args;
 use std::io::Write;
@@ -16,7 +17,7 @@ pub struct StabilityArgs {
     /// carries the depth layer) or 'out/{:04}.png'.
     frames_pattern: String,
     /// Frames to compare, adjacent pairs (A..B, A..=B).
-    #[arg(long, value_parser = sequence::frame_list)]
+    #[arg(long, value_parser = frame_parse::frame_list)]
     frames: FrameList,
     /// Frame pattern of EXRs with the depth layer, for PNG frames (default: the frames
     /// themselves if they are EXR; PNG frames without it compare every pixel).

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::time::{Duration, Instant};
 
-use super::{Prepared, load_cloud, prepare};
+use super::load::load_cloud;
+use super::prepare;
+use super::prepared::Prepared;
 use crate::geometry::{MeshGeometry, MeshSides, Primitive};
 use crate::image::RgbImage;
 use crate::image::metrics::{DeltaEStats, delta_e_map, delta_e_stats, psnr, ssim};

@@ -2,8 +2,8 @@
 //! repaired), deduplicated, scaled and completed (normals, radii, thickness estimated where
 //! missing, radii fitted to the sampling), the droplets kept apart.
 
-use super::Note;
 use super::config::FilmConfig;
+use super::prepared::Note;
 use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud, read_parts};
 use crate::optics::check_film_params;

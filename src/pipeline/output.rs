@@ -1,7 +1,7 @@
 //! Output: the rendered buffers as image files (PNG tone-mapped, EXR linear with its layers),
 //! and the scientific views with their colour bars.
 
-use super::Prepared;
+use super::prepared::Prepared;
 use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
 use crate::render::{RenderOutput, View, ViewImage};
 use crate::{Error, Result};

@@ -6,8 +6,8 @@
 //! decided once ([`super::framing::sequence_camera`]), from the frames alone, so sharded jobs
 //! agree without talking.
 
-use super::Prepared;
 use super::framing::{self, Framing};
+use super::prepared::Prepared;
 use crate::scene::{CameraDesc, SceneDesc};
 use crate::{Error, Result};
 use std::io::Write;

@@ -1,0 +1,168 @@
+//! One image of `filmsplat render`: checks before loading (outputs, memory), prepare, render,
+//! write, report.
+
+use super::glob;
+use super::render_args::RenderArgs;
+use super::render_scene::scene_from_args;
+use crate::pipeline;
+use crate::pipeline::{Prepared, memory};
+use crate::scene::SceneDesc;
+use crate::{Error, Result};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// " and N droplets" when there are any.
+fn droplet_note(n: usize) -> String {
+    if n == 0 {
+        String::new()
+    } else {
+        format!(" and {n} droplets")
+    }
+}
+
+/// The image a render writes: -o, else the scene file's output.path, else render.png.
+fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
+    match (&a.output, &desc.output.path) {
+        (Some(o), _) => match a.inputs.first() {
+            Some(i) => glob::with_stem(o, i),
+            None => o.clone(),
+        },
+        (None, Some(p)) => base.join(p),
+        (None, None) => PathBuf::from("render.png"),
+    }
+}
+
+/// Renders `a` (whose output is `-`) to a spool file, then copies the finished PNG to standard
+/// output, so standard output receives the whole image or nothing; messages go to stderr.
+fn render_to_stdout(a: &RenderArgs) -> Result<()> {
+    static SPOOLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = SPOOLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let spool =
+        std::env::temp_dir().join(format!("filmsplat-{}-{n}-stdout.png", std::process::id()));
+    let mut one = a.clone();
+    one.output = Some(spool.clone());
+    let mut said = Vec::new();
+    let result = render_one(&one, &mut said, None);
+    let said =
+        String::from_utf8_lossy(&said).replace(&spool.display().to_string(), "standard output");
+    eprint!("{said}");
+    let result = result.and_then(|()| {
+        let bytes = std::fs::read(&spool).map_err(|e| Error::io(&spool, e))?;
+        let mut stdout = std::io::stdout().lock();
+        stdout
+            .write_all(&bytes)
+            .and_then(|()| stdout.flush())
+            .map_err(|e| Error::io("-", e))
+    });
+    let _ = std::fs::remove_file(&spool);
+    result
+}
+
+/// Checks everything that can be checked before loading: output names, the estimated peak
+/// memory against --max-memory or the machine's available memory, the output folders
+/// (created); then prepares the scene. `progress` shows the render's progress bar.
+pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = output_path(a, &desc, &base);
+    let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
+    for p in &outputs {
+        pipeline::check_extension(p)?;
+    }
+    if let Some(bytes) = a.max_memory {
+        crate::budget::set_allowance(bytes);
+    }
+    if let Some(limit) = memory::Limit::new(a.max_memory) {
+        let exr = outputs
+            .iter()
+            .any(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
+        match memory::estimate_scene(&desc, &base, exr) {
+            Ok(estimate) => limit
+                .check(&estimate)
+                .map_err(|m| Error::invalid(format!("{}: {m}", a.first_input())))?,
+            // Without a limit of the user's, an input the estimate cannot read is left to the
+            // reader, which names the problem better.
+            Err(_) if matches!(limit, memory::Limit::Available(_)) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    for p in &outputs {
+        crate::atomic::prepare_output(p)?;
+    }
+    pipeline::prepare(&desc, &base, progress)
+}
+
+/// Renders one image; `ready` is its scene if the caller already prepared it.
+pub(super) fn render_one(
+    a: &RenderArgs,
+    out: &mut dyn Write,
+    ready: Option<Prepared>,
+) -> Result<()> {
+    let (desc, base) = scene_from_args(a)?;
+    let output = output_path(a, &desc, &base);
+    if output.as_os_str() == "-" {
+        return render_to_stdout(a);
+    }
+    let progress = !a.quiet && std::io::stderr().is_terminal();
+    let prepared = match ready {
+        Some(mut p) => {
+            p.settings.progress = progress;
+            p
+        }
+        None => prepare_frame(a, progress).map_err(|e| desc.locate(e))?,
+    };
+    if !a.quiet {
+        for note in prepared
+            .notes
+            .iter()
+            .filter(|n| !n.text.is_empty() && !n.routine)
+        {
+            let _ = writeln!(out, "{note}");
+        }
+    }
+    if let Some(view) = pipeline::render_view(&prepared)? {
+        pipeline::write_view(&view, &output)?;
+        if let Some(exr) = &a.exr {
+            pipeline::write_view(&view, exr)?;
+        }
+        if !a.quiet {
+            let _ = writeln!(
+                out,
+                "{} particles: {} view; wrote {}",
+                prepared.particles,
+                prepared.view,
+                output.display()
+            );
+        }
+        return Ok(());
+    }
+    let t = Instant::now();
+    let result = pipeline::render(&prepared)?;
+    let render_time = t.elapsed();
+    pipeline::write_image(&prepared, &result, &output)?;
+    if let Some(exr) = &a.exr {
+        pipeline::write_image(&prepared, &result, exr)?;
+    }
+    if !a.quiet {
+        let s = &prepared.settings;
+        let front = crate::image::pinholes::missing_front_layer(&result.depth, s.width, s.height);
+        let _ = writeln!(
+            out,
+            "{} particles ({}){}: load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
+            prepared.particles,
+            prepared.scene.geometry,
+            droplet_note(prepared.droplets),
+            prepared.load_time.as_secs_f64(),
+            prepared.estimate_time.as_secs_f64(),
+            prepared.build_time.as_secs_f64(),
+            s.width,
+            s.height,
+            s.spp,
+            render_time.as_secs_f64(),
+            result.rays as f64 / render_time.as_secs_f64() / 1e6,
+            front.percent(),
+            output.display()
+        );
+    }
+    Ok(())
+}

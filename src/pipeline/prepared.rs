@@ -1,0 +1,80 @@
+//! What preparing a scene gives: everything ready to render, and notes for the user.
+
+use super::framing::Framing;
+use crate::image::{Grade, ToneMap};
+use crate::render::{AttributeValues, FilmShader, RenderSettings, Scene, View};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Everything ready to render, plus what it cost to get here.
+#[derive(Debug)]
+pub struct Prepared {
+    /// Geometry, camera and light.
+    pub scene: Scene,
+    /// What auto-framing frames of this cloud (used for the camera unless the scene names a
+    /// position; a sequence frames once, see [`framing`]).
+    pub framing: Framing,
+    /// Width / height of the part of the image the scene fills (the image without a view's
+    /// colour bar): the aspect auto-framing frames for.
+    pub aspect: f32,
+    /// The film shader.
+    pub shader: FilmShader,
+    /// Sampling settings.
+    pub settings: RenderSettings,
+    /// Exposure, EV.
+    pub exposure: f32,
+    /// Tone curve for PNG output.
+    pub tonemap: ToneMap,
+    /// Grading (white balance, contrast, saturation) before the tone curve.
+    pub grade: Grade,
+    /// What to show.
+    pub view: View,
+    /// Output path from the scene file, resolved against its folder.
+    pub output: Option<PathBuf>,
+    /// The values of an `attribute:NAME` view, one per film particle (`None` for other views).
+    pub attribute: Option<AttributeValues>,
+    /// Number of film particles.
+    pub particles: usize,
+    /// Number of droplets (water spheres).
+    pub droplets: usize,
+    /// Time spent loading or generating the cloud.
+    pub load_time: Duration,
+    /// Time spent estimating missing normals/radii.
+    pub estimate_time: Duration,
+    /// Time spent building the acceleration structure.
+    pub build_time: Duration,
+    /// Notes for the user (what was estimated, defaults applied).
+    pub notes: Vec<Note>,
+}
+
+impl Prepared {
+    /// Adds a note for the user.
+    pub fn note(&mut self, text: impl Into<String>) {
+        self.notes.push(Note::new(text));
+    }
+}
+
+/// A note for the user about what preparing a scene did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Note {
+    /// What happened (one or more lines).
+    pub text: String,
+    /// A routine report the CLI leaves out: an estimate that had nothing to fill.
+    pub routine: bool,
+}
+
+impl Note {
+    /// A note worth showing.
+    pub fn new(text: impl Into<String>) -> Self {
+        Note {
+            text: text.into(),
+            routine: false,
+        }
+    }
+}
+
+impl std::fmt::Display for Note {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text)
+    }
+}
