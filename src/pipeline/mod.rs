@@ -61,25 +61,9 @@ pub fn prepare_with(
     let config = desc.resolve(base)?;
     let mut notes = Vec::new();
 
-    // Load: the particles, as films and droplets.
-    let t0 = Instant::now();
-    let parts = match cloud {
-        // A cloud given in memory (the Python API) replaces what `[input]` would load.
-        Some(c) => vec![CloudPart::film("the given cloud".into(), c, Vec::new())],
-        None => load_parts(desc, base)?,
-    };
-    let load_time = t0.elapsed();
-
-    // Estimate: what the films lack, their radii fitted to the sampling.
-    let t1 = Instant::now();
-    let (films, drops) = load::split(parts, &mut notes);
-    let droplets = build::droplets(&drops)?;
-    if films.is_empty() && droplets.is_empty() {
-        return Err(load::nothing_loaded(desc, base));
-    }
-    let repairing = desc.input.repair == Some(true);
-    let films = load::films(films, &config.film, repairing, &mut notes)?;
-    let estimate_time = t1.elapsed();
+    // Load and estimate: the particles, as completed films and droplets.
+    let loaded = load(desc, base, cloud, &config, &mut notes)?;
+    let (films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
     let radii = films.radii(&config.film);
     let attribute = config
         .attribute
@@ -133,10 +117,52 @@ pub fn prepare_with(
         attribute,
         particles: films.cloud.len(),
         droplets: n_droplets,
-        load_time,
-        estimate_time,
+        load_time: loaded.load_time,
+        estimate_time: loaded.estimate_time,
         build_time,
         notes,
+    })
+}
+
+/// The scene's particles, loaded and completed.
+struct Loaded {
+    films: load::Films,
+    drops: Vec<PointCloud>,
+    droplets: crate::geometry::Droplets,
+    load_time: std::time::Duration,
+    estimate_time: std::time::Duration,
+}
+
+/// Loads the particles (`cloud`, or the scene's `[input]`) as films and droplets, and
+/// completes the films: what they lack estimated, their radii fitted to the sampling.
+fn load(
+    desc: &SceneDesc,
+    base: &Path,
+    cloud: Option<PointCloud>,
+    config: &RenderConfig,
+    notes: &mut Vec<Note>,
+) -> Result<Loaded> {
+    let t0 = Instant::now();
+    let parts = match cloud {
+        // A cloud given in memory (the Python API) replaces what `[input]` would load.
+        Some(c) => vec![CloudPart::film("the given cloud".into(), c, Vec::new())],
+        None => load_parts(desc, base)?,
+    };
+    let load_time = t0.elapsed();
+    let t1 = Instant::now();
+    let (films, drops) = load::split(parts, notes);
+    let droplets = build::droplets(&drops)?;
+    if films.is_empty() && droplets.is_empty() {
+        return Err(load::nothing_loaded(desc, base));
+    }
+    let repairing = desc.input.repair == Some(true);
+    let films = load::films(films, &config.film, repairing, notes)?;
+    Ok(Loaded {
+        films,
+        drops,
+        droplets,
+        load_time,
+        estimate_time: t1.elapsed(),
     })
 }
 

@@ -13,13 +13,16 @@ use crate::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// The brace that opens a frame pattern's placeholder.
+const OPEN: char = '\u{7b}';
+
 /// Expands the first `{}` or `{:0N}` in `pattern` with `frame` (zero-padded to N digits).
 /// Returns `None` if the pattern has no placeholder.
 ///
 /// # Errors
 /// [`Error::Invalid`] for an unclosed `{` or another placeholder.
 pub fn expand(pattern: &str, frame: u64) -> Result<Option<String>> {
-    let Some(open) = pattern.find('{') else {
+    let Some(open) = pattern.find(OPEN) else {
         return Ok(None);
     };
     let bad = || {
@@ -28,9 +31,11 @@ pub fn expand(pattern: &str, frame: u64) -> Result<Option<String>> {
         ))
     };
     let close = pattern[open..]
-        .find('}')
+        .find('\u{7d}')
         .map(|c| open + c)
-        .ok_or_else(|| Error::invalid(format!("'{pattern}': unclosed '{{' in frame pattern")))?;
+        .ok_or_else(|| {
+            Error::invalid(format!("'{pattern}': unclosed '{OPEN}' in frame pattern"))
+        })?;
     let width = match &pattern[open + 1..close] {
         "" => 0,
         s if s.starts_with(":0") && s.len() > 2 => s[2..]
