@@ -46,29 +46,9 @@ fn fields(line: &str, sep: Sep) -> Vec<&str> {
     }
 }
 
-fn columns(b: &[u8]) -> Result<Columns, String> {
-    let text = std::str::from_utf8(b).map_err(|e| {
-        let line = b[..e.valid_up_to()].iter().filter(|&&c| c == b'\n').count() + 1;
-        format!("line {line}: not UTF-8 text")
-    })?;
-    let mut lines = text
-        .split('\n')
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
-        .filter(|(_, l)| !l.trim().is_empty());
-    let Some((hl, header)) = lines.next() else {
-        return Err("empty file (no header line)".into());
-    };
-    let header = header.trim().trim_start_matches('#').trim();
-    let sep = if header.contains(',') {
-        Sep::Comma
-    } else if header.contains('\t') {
-        Sep::Tab
-    } else {
-        Sep::Space
-    };
-    let head = fields(header, sep);
-    let numeric = head.iter().all(|f| f.parse::<f64>().is_ok());
+/// The column names of header line `hl`'s fields `head`: the names (unquoted), or for a
+/// headerless file (`numeric`) `x y z c3 c4 ..`. Each must be non-empty and unique.
+fn column_names(head: &[&str], numeric: bool, hl: usize) -> Result<Vec<String>, String> {
     let names: Vec<String> = if numeric {
         if head.len() < 3 {
             return Err(format!(
@@ -95,6 +75,33 @@ fn columns(b: &[u8]) -> Result<Columns, String> {
             return Err(format!("line {hl}: header names '{}' twice", show(n)));
         }
     }
+    Ok(names)
+}
+
+fn columns(b: &[u8]) -> Result<Columns, String> {
+    let text = std::str::from_utf8(b).map_err(|e| {
+        let line = b[..e.valid_up_to()].iter().filter(|&&c| c == b'\n').count() + 1;
+        format!("line {line}: not UTF-8 text")
+    })?;
+    let mut lines = text
+        .split('\n')
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
+        .filter(|(_, l)| !l.trim().is_empty());
+    let Some((hl, header)) = lines.next() else {
+        return Err("empty file (no header line)".into());
+    };
+    let header = header.trim().trim_start_matches('#').trim();
+    let sep = if header.contains(',') {
+        Sep::Comma
+    } else if header.contains('\t') {
+        Sep::Tab
+    } else {
+        Sep::Space
+    };
+    let head = fields(header, sep);
+    let numeric = head.iter().all(|f| f.parse::<f64>().is_ok());
+    let names = column_names(&head, numeric, hl)?;
     let pos: Vec<usize> = ["x", "y", "z"]
         .iter()
         .map(|a| {
@@ -141,6 +148,11 @@ fn columns(b: &[u8]) -> Result<Columns, String> {
         }
         record(ln, line)?;
     }
+    Ok(into_columns(names, data, &pos))
+}
+
+/// The columns `names` with their `data`, the ones at `pos` (x, y, z) as the positions.
+fn into_columns(names: Vec<String>, data: Vec<Vec<f32>>, pos: &[usize]) -> Columns {
     let mut cols = Columns::default();
     let (x, y, z) = (&data[pos[0]], &data[pos[1]], &data[pos[2]]);
     cols.positions = (0..x.len()).map(|i| Vec3::new(x[i], y[i], z[i])).collect();
@@ -151,5 +163,5 @@ fn columns(b: &[u8]) -> Result<Columns, String> {
             cols.push(&name, 1, "text", v);
         }
     }
-    Ok(cols)
+    cols
 }

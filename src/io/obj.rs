@@ -70,19 +70,7 @@ fn parse(bytes: &[u8]) -> std::result::Result<TriangleMesh, String> {
             "f" => {
                 corners.clear();
                 for w in words {
-                    let mut parts = w.split('/');
-                    let v = index(parts.next().unwrap_or(""), positions.len())
-                        .map_err(|m| at(format!("face corner '{}': vertex {m}", show(w))))?;
-                    let _texture = parts.next();
-                    let vn = match parts.next() {
-                        Some(s) if !s.is_empty() => {
-                            Some(index(s, file_normals.len()).map_err(|m| {
-                                at(format!("face corner '{}': normal {m}", show(w)))
-                            })?)
-                        }
-                        _ => None,
-                    };
-                    corners.push((v, vn));
+                    corners.push(corner(w, positions.len(), file_normals.len()).map_err(at)?);
                 }
                 if corners.len() < 3 {
                     return Err(at(format!(
@@ -111,18 +99,10 @@ fn parse(bytes: &[u8]) -> std::result::Result<TriangleMesh, String> {
     if triangles.is_empty() {
         return Err("no faces (f lines): not a mesh".to_string());
     }
-    let normals = if corner_normals.iter().all(Option::is_some) {
-        let mut sum = vec![Vec3::ZERO; positions.len()];
-        for (t, c) in triangles.iter().zip(corner_normals.chunks_exact(3)) {
-            for (v, vn) in t.iter().zip(c) {
-                let vn = file_normals[vn.expect("checked") as usize];
-                sum[*v as usize] += vn.normalize_or_zero();
-            }
-        }
-        Some(sum.into_iter().map(Vec3::normalize_or_zero).collect())
-    } else {
-        None
-    };
+    let normals = corner_normals
+        .iter()
+        .all(Option::is_some)
+        .then(|| vertex_normals(positions.len(), &triangles, &corner_normals, &file_normals));
     Ok(TriangleMesh {
         vertices: PointCloud {
             positions,
@@ -131,6 +111,43 @@ fn parse(bytes: &[u8]) -> std::result::Result<TriangleMesh, String> {
         },
         triangles,
     })
+}
+
+/// One face corner `v`, `v/vt` or `v/vt/vn`: its vertex and normal indices (0-based), checked
+/// against the `vertices` and `normals` read so far.
+fn corner(
+    w: &str,
+    vertices: usize,
+    normals: usize,
+) -> std::result::Result<(u32, Option<u32>), String> {
+    let mut parts = w.split('/');
+    let v = index(parts.next().unwrap_or(""), vertices)
+        .map_err(|m| format!("face corner '{}': vertex {m}", show(w)))?;
+    let _texture = parts.next();
+    let vn = match parts.next() {
+        Some(s) if !s.is_empty() => {
+            Some(index(s, normals).map_err(|m| format!("face corner '{}': normal {m}", show(w)))?)
+        }
+        _ => None,
+    };
+    Ok((v, vn))
+}
+
+/// Per-vertex normals: the normalised sum of the file's normals at each vertex's corners.
+fn vertex_normals(
+    vertices: usize,
+    triangles: &[[u32; 3]],
+    corner_normals: &[Option<u32>],
+    file_normals: &[Vec3],
+) -> Vec<Vec3> {
+    let mut sum = vec![Vec3::ZERO; vertices];
+    for (t, c) in triangles.iter().zip(corner_normals.chunks_exact(3)) {
+        for (v, vn) in t.iter().zip(c) {
+            let vn = file_normals[vn.expect("checked") as usize];
+            sum[*v as usize] += vn.normalize_or_zero();
+        }
+    }
+    sum.into_iter().map(Vec3::normalize_or_zero).collect()
 }
 
 /// A 1-based (or negative, relative) OBJ index into a list of `len` items, as 0-based.

@@ -239,25 +239,30 @@ fn zlib_blocks<'a>(
             bs
         } as usize;
         let input = src.take(c as usize)?;
-        let before = raw.len();
-        raw.resize(before + want, 0);
-        let mut z = flate2::Decompress::new(true);
-        // Exactly `want` bytes of room: the stream must end there.
-        let st = z.decompress(&input, &mut raw[before..], flate2::FlushDecompress::Finish);
-        let got = z.total_out() as usize;
-        let ok = matches!(st, Ok(flate2::Status::StreamEnd)) && got == want;
-        if !ok {
-            return Err(format!(
-                "compressed block {i} of {blocks} is corrupt (zlib {}; {} of {want} bytes)",
-                match st {
-                    Ok(s) => format!("{s:?}"),
-                    Err(e) => e.to_string(),
-                },
-                got
-            ));
-        }
+        inflate_block(&input, want, &mut raw)
+            .map_err(|m| format!("compressed block {i} of {blocks} is corrupt ({m})"))?;
     }
     let mut out = Vec::with_capacity(raw.len() / a.ty.size());
     a.ty.decode(&raw, set.big_endian, &mut out);
     Ok(out)
+}
+
+/// Inflates one zlib stream onto the end of `raw`: exactly `want` bytes, ending the stream.
+fn inflate_block(input: &[u8], want: usize, raw: &mut Vec<u8>) -> Result<(), String> {
+    let before = raw.len();
+    raw.resize(before + want, 0);
+    let mut z = flate2::Decompress::new(true);
+    // Exactly `want` bytes of room: the stream must end there.
+    let st = z.decompress(input, &mut raw[before..], flate2::FlushDecompress::Finish);
+    let got = z.total_out() as usize;
+    if matches!(st, Ok(flate2::Status::StreamEnd)) && got == want {
+        return Ok(());
+    }
+    Err(format!(
+        "zlib {}; {got} of {want} bytes",
+        match st {
+            Ok(s) => format!("{s:?}"),
+            Err(e) => e.to_string(),
+        }
+    ))
 }
