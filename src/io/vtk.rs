@@ -84,6 +84,15 @@ impl<'a> Cur<'a> {
         Some((start, text.trim_end()))
     }
 
+    /// Skips lines up to and including the next blank one (a METADATA block).
+    fn skip_block(&mut self) {
+        while let Some((_, l)) = self.raw_line() {
+            if l.trim().is_empty() {
+                break;
+            }
+        }
+    }
+
     /// The next non-blank line, trimmed.
     fn line(&mut self) -> Option<(usize, &'a str)> {
         while let Some((at, l)) = self.raw_line() {
@@ -193,14 +202,8 @@ fn num_type(name: &str) -> Option<Num> {
     })
 }
 
-/// Parses the whole file into columns.
-fn columns(b: &[u8]) -> Result<Columns, String> {
-    let mut c = Cur {
-        b,
-        pos: 0,
-        binary: false,
-        line_cache: std::cell::Cell::new((0, 0)),
-    };
+/// The first three lines: the version line, the title and ASCII or BINARY (noted in `c`).
+fn preamble(c: &mut Cur<'_>) -> Result<(), String> {
     match c.raw_line() {
         Some((_, l)) if l.starts_with("# vtk DataFile Version") => {}
         Some(_) => {
@@ -222,6 +225,90 @@ fn columns(b: &[u8]) -> Result<Columns, String> {
         }
         None => return Err("file ends before the ASCII/BINARY line".into()),
     }
+    Ok(())
+}
+
+/// Skips a cell section of `n` cells and `size` values: the classic layout, or the 5.x
+/// `OFFSETS` / `CONNECTIVITY` arrays.
+fn skip_cells(c: &mut Cur<'_>, n: u64, size: u64, keyword: &str, here: &str) -> Result<(), String> {
+    if let Some((oat, ol)) = c.line_if("OFFSETS") {
+        let t = ol.split_ascii_whitespace().nth(1).and_then(num_type);
+        let t = t.ok_or_else(|| format!("{}: bad OFFSETS line", c.at(oat)))?;
+        c.values(t, n, false, "OFFSETS")?;
+        let (cat, cl) = c
+            .line_if("CONNECTIVITY")
+            .ok_or_else(|| format!("{here}: OFFSETS without CONNECTIVITY"))?;
+        let t = cl.split_ascii_whitespace().nth(1).and_then(num_type);
+        let t = t.ok_or_else(|| format!("{}: bad CONNECTIVITY line", c.at(cat)))?;
+        c.values(t, size, false, "CONNECTIVITY")?;
+    } else {
+        c.values(Num::I32, size, false, keyword)?;
+    }
+    Ok(())
+}
+
+/// The `arrays` arrays of a FIELD block: kept as columns when it is point data (`keep`),
+/// each then holding one tuple per point; skipped otherwise.
+fn field_arrays(
+    c: &mut Cur<'_>,
+    arrays: u64,
+    keep: bool,
+    n_points: Option<u64>,
+    here: &str,
+    cols: &mut Columns,
+) -> Result<(), String> {
+    for _ in 0..arrays {
+        let (fat, fl) = c
+            .line()
+            .ok_or_else(|| format!("{here}: file ends inside FIELD"))?;
+        let fw: Vec<&str> = fl.split_ascii_whitespace().collect();
+        let fhere = c.at(fat);
+        if fw.first().is_some_and(|s| *s == "NULL_ARRAY") {
+            continue;
+        }
+        let num = |i: usize| fw.get(i).and_then(|s| s.parse::<u64>().ok());
+        let (Some(k), Some(tuples), Some(t)) =
+            (num(1), num(2), fw.get(3).copied().and_then(num_type))
+        else {
+            return Err(format!(
+                "{fhere}: expected 'name components tuples type' in FIELD, found '{}'",
+                show(fl)
+            ));
+        };
+        let aname = fw[0].replace("%20", " ");
+        if keep && Some(tuples) != n_points {
+            return Err(format!(
+                "{fhere}: FIELD array '{}' has {tuples} tuples for {} points",
+                show(&aname),
+                n_points.unwrap_or(0)
+            ));
+        }
+        if !(1..=64).contains(&k) {
+            return Err(format!(
+                "{fhere}: FIELD array '{}' has {k} components (1 to 64 supported)",
+                show(&aname)
+            ));
+        }
+        let v = c.values(t, tuples.saturating_mul(k), keep, &aname)?;
+        if keep {
+            cols.push(&aname, k as usize, t.name(), v);
+        }
+        if c.line_if("METADATA").is_some() {
+            c.skip_block();
+        }
+    }
+    Ok(())
+}
+
+/// Parses the whole file into columns.
+fn columns(b: &[u8]) -> Result<Columns, String> {
+    let mut c = Cur {
+        b,
+        pos: 0,
+        binary: false,
+        line_cache: std::cell::Cell::new((0, 0)),
+    };
+    preamble(&mut c)?;
     let mut cols = Columns::default();
     let mut n_points: Option<u64> = None;
     let mut dataset = false;
@@ -285,28 +372,9 @@ fn columns(b: &[u8]) -> Result<Columns, String> {
                     .collect();
                 n_points = Some(n);
             }
-            "METADATA" => {
-                while let Some((_, l)) = c.raw_line() {
-                    if l.trim().is_empty() {
-                        break;
-                    }
-                }
-            }
+            "METADATA" => c.skip_block(),
             "CELLS" | "VERTICES" | "LINES" | "POLYGONS" | "TRIANGLE_STRIPS" => {
-                let (n, size) = (count(1)?, count(2)?);
-                if let Some((oat, ol)) = c.line_if("OFFSETS") {
-                    let t = ol.split_ascii_whitespace().nth(1).and_then(num_type);
-                    let t = t.ok_or_else(|| format!("{}: bad OFFSETS line", c.at(oat)))?;
-                    c.values(t, n, false, "OFFSETS")?;
-                    let (cat, cl) = c
-                        .line_if("CONNECTIVITY")
-                        .ok_or_else(|| format!("{here}: OFFSETS without CONNECTIVITY"))?;
-                    let t = cl.split_ascii_whitespace().nth(1).and_then(num_type);
-                    let t = t.ok_or_else(|| format!("{}: bad CONNECTIVITY line", c.at(cat)))?;
-                    c.values(t, size, false, "CONNECTIVITY")?;
-                } else {
-                    c.values(Num::I32, size, false, &keyword)?;
-                }
+                skip_cells(&mut c, count(1)?, count(2)?, &keyword, &here)?;
             }
             "CELL_TYPES" => {
                 c.values(Num::I32, count(1)?, false, "CELL_TYPES")?;
@@ -357,52 +425,8 @@ fn columns(b: &[u8]) -> Result<Columns, String> {
                 c.values(t, count(2)?.saturating_mul(4), false, "LOOKUP_TABLE")?;
             }
             "FIELD" => {
-                let arrays = count(2)?;
-                for _ in 0..arrays {
-                    let (fat, fl) = c
-                        .line()
-                        .ok_or_else(|| format!("{here}: file ends inside FIELD"))?;
-                    let fw: Vec<&str> = fl.split_ascii_whitespace().collect();
-                    let fhere = c.at(fat);
-                    if fw.first().is_some_and(|s| *s == "NULL_ARRAY") {
-                        continue;
-                    }
-                    let num = |i: usize| fw.get(i).and_then(|s| s.parse::<u64>().ok());
-                    let (Some(k), Some(tuples), Some(t)) =
-                        (num(1), num(2), fw.get(3).copied().and_then(num_type))
-                    else {
-                        return Err(format!(
-                            "{fhere}: expected 'name components tuples type' in FIELD, found '{}'",
-                            show(fl)
-                        ));
-                    };
-                    let aname = fw[0].replace("%20", " ");
-                    let keep = section == Section::Point;
-                    if keep && Some(tuples) != n_points {
-                        return Err(format!(
-                            "{fhere}: FIELD array '{}' has {tuples} tuples for {} points",
-                            show(&aname),
-                            n_points.unwrap_or(0)
-                        ));
-                    }
-                    if !(1..=64).contains(&k) {
-                        return Err(format!(
-                            "{fhere}: FIELD array '{}' has {k} components (1 to 64 supported)",
-                            show(&aname)
-                        ));
-                    }
-                    let v = c.values(t, tuples.saturating_mul(k), keep, &aname)?;
-                    if keep {
-                        cols.push(&aname, k as usize, t.name(), v);
-                    }
-                    let _ = c.line_if("METADATA").map(|_| {
-                        while let Some((_, l)) = c.raw_line() {
-                            if l.trim().is_empty() {
-                                break;
-                            }
-                        }
-                    });
-                }
+                let keep = section == Section::Point;
+                field_arrays(&mut c, count(2)?, keep, n_points, &here, &mut cols)?;
             }
             _ => return Err(format!("{here}: unknown keyword '{}'", show(w[0]))),
         }
