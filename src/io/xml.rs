@@ -109,31 +109,24 @@ impl<'a> Scanner<'a> {
             while i < b.len() && b[i].is_ascii_whitespace() {
                 i += 1;
             }
-            match b.get(i) {
-                None => return Err(bad(start, "file ends inside the tag")),
-                Some(b'>') => {
-                    self.pos = i + 1;
-                    return Ok(Tag {
-                        name,
-                        attrs,
-                        end,
-                        empty: false,
-                        start,
-                        after: i + 1,
-                    });
-                }
-                Some(b'/') if b.get(i + 1) == Some(&b'>') => {
-                    self.pos = i + 2;
-                    return Ok(Tag {
-                        name,
-                        attrs,
-                        end,
-                        empty: true,
-                        start,
-                        after: i + 2,
-                    });
-                }
-                Some(_) => {}
+            // `>` ends the tag; `/>` ends an empty element.
+            let empty = match (b.get(i), b.get(i + 1)) {
+                (None, _) => return Err(bad(start, "file ends inside the tag")),
+                (Some(b'>'), _) => Some(false),
+                (Some(b'/'), Some(b'>')) => Some(true),
+                _ => None,
+            };
+            if let Some(empty) = empty {
+                let after = i + 1 + usize::from(empty);
+                self.pos = after;
+                return Ok(Tag {
+                    name,
+                    attrs,
+                    end,
+                    empty,
+                    start,
+                    after,
+                });
             }
             let k0 = i;
             while i < b.len() && is_name(b[i]) {
