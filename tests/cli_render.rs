@@ -66,10 +66,13 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
     }
 }
 
+/// Coverage, centroid (x, y) and mean linear RGB of a render (see [`exr_stats`]).
+type Stats = (f64, [f64; 2], [f64; 3]);
+
 /// What an EXR render shows: the fraction of pixels the film covers (alpha > 0.5), the centroid
 /// of those pixels (x, y as fractions of the width and height), and the mean linear RGB over
 /// the whole image.
-fn exr_stats(path: &Path) -> (f64, [f64; 2], [f64; 3]) {
+fn exr_stats(path: &Path) -> Stats {
     let l = filmsplat::image::read_exr(path).unwrap();
     let (mut n, mut cx, mut cy, mut mean) = (0.0, 0.0, 0.0, [0.0; 3]);
     for (i, p) in l.rgba.iter().enumerate() {
@@ -87,7 +90,7 @@ fn exr_stats(path: &Path) -> (f64, [f64; 2], [f64; 3]) {
 
 /// Checks `stats` against the values recorded from this render (coverage within 0.015,
 /// centroid within 0.02 of the frame, each mean channel within 3 % + 0.001).
-fn assert_stats(what: &str, got: (f64, [f64; 2], [f64; 3]), want: (f64, [f64; 2], [f64; 3])) {
+fn assert_stats(what: &str, got: Stats, want: Stats) {
     let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
     let ok = close(got.0, want.0, 0.015)
         && (0..2).all(|i| close(got.1[i], want.1[i], 0.02))
@@ -101,7 +104,7 @@ fn real_sph_files_render() {
     // no thickness; normals are estimated, thickness is the default. Each render's coverage,
     // centroid and mean colour are those recorded from it (a regression in reading, estimating,
     // framing or shading moves them).
-    let recorded: [(&str, &str, (f64, [f64; 2], [f64; 3])); 6] = [
+    let recorded: [(&str, &str, Stats); 6] = [
         (
             "splishsplash_sphere_shell.ply",
             "disk",
