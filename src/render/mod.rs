@@ -14,10 +14,15 @@ pub mod sampler;
 pub mod shading;
 mod transport;
 pub mod views;
+pub mod world;
 
 pub use camera::Camera;
 pub use environment::{Environment, LatLongMap, SoftBox, Studio};
-pub use integrator::{RenderOutput, RenderSettings, Scene, Staging, render};
+pub use integrator::{RenderOutput, render};
+pub use world::{RenderSettings, Staging, World};
+
+/// The old name of [`World`] (kept so callers need not change).
+pub type Scene = World;
 pub use lights::{AreaLight, LightShape};
 pub use material::Material;
 pub use presets::{Preset, PresetValues};

@@ -15,17 +15,17 @@
 //! films reflect onto props (their caustics) is left out.
 
 use super::env_sampling::EnvSampler;
-use super::integrator::{RenderSettings, Scene};
 use super::lights::nearest;
 use super::material::Material;
 use super::radiance::{Lanes, Radiance};
 use super::sampler::Pcg32;
+use super::world::{RenderSettings, World};
 use crate::geometry::{PropHit, Ray, SurfaceHit};
 use glam::Vec3;
 
 /// The renderer's view of a scene for one render.
 pub(crate) struct Tracer<'a> {
-    pub scene: &'a Scene,
+    pub scene: &'a World,
     pub settings: &'a RenderSettings,
     /// Environment sampling for props (None when the scene has no props).
     pub env: Option<EnvSampler>,
@@ -61,7 +61,7 @@ fn emitted<L: Lanes>(l: &L, light: &super::lights::AreaLight, front: bool) -> L:
 }
 
 impl<'a> Tracer<'a> {
-    pub fn new(scene: &'a Scene, settings: &'a RenderSettings) -> Self {
+    pub fn new(scene: &'a World, settings: &'a RenderSettings) -> Self {
         let env = (settings.next_event && !scene.staging.props.is_empty())
             .then(|| EnvSampler::new(&scene.environment));
         Tracer {

@@ -1,7 +1,7 @@
 //! Scientific views: what the camera's first film crossing holds, drawn exactly and cheaply
 //! (no spectra, no ray tree, one ray through each pixel centre).
 
-use super::integrator::Scene;
+use super::world::World;
 use crate::geometry::SurfaceHit;
 use crate::image::{srgb_to_linear, viridis};
 use crate::{Error, Result};
@@ -148,7 +148,7 @@ type Colouring = Box<dyn Fn(&SurfaceHit) -> Vec3 + Sync>;
 const BACKGROUND: Vec3 = Vec3::splat(0.012);
 
 /// Renders `view` (not [`View::Shaded`]) at `width × height`.
-pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Result<ViewImage> {
+pub fn render_view(scene: &World, view: View, width: usize, height: usize) -> Result<ViewImage> {
     render_view_of(scene, view, width, height, None)
 }
 
@@ -158,7 +158,7 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
 /// As [`render_view`]; an attribute view without values, or with a count that is not the
 /// geometry's, is refused.
 pub fn render_view_of(
-    scene: &Scene,
+    scene: &World,
     view: View,
     width: usize,
     height: usize,
@@ -288,7 +288,7 @@ mod tests {
             &[100.0, 500.0],
         )
         .unwrap();
-        let scene = Scene {
+        let scene = World {
             geometry: geometry.into(),
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
             environment: Environment::Uniform(Vec3::ONE),
