@@ -1,6 +1,6 @@
 //! Image properties of small scenes with known answers.
 
-use filmsplat::geometry::{Primitive, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, FilmGeometry, Primitive};
 use filmsplat::optics::FilmFresnel;
 use filmsplat::render::{
     Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, render,
@@ -22,14 +22,7 @@ fn settings(w: usize, h: usize, spp: u32) -> RenderSettings {
 
 /// One big disk of `thickness` nm in the z = 0 plane, seen head-on from +z.
 fn big_disk_scene(thickness: f32, env: Environment) -> Scene {
-    let geometry = SplatGeometry::build(
-        Primitive::Disk,
-        &[Vec3::ZERO],
-        &[Vec3::Z],
-        &[10.0],
-        &[thickness],
-    )
-    .unwrap();
+    let geometry = DiskGeometry::build(&[Vec3::ZERO], &[Vec3::Z], &[10.0], &[thickness]).unwrap();
     Scene {
         geometry: geometry.into(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 10.0),
@@ -139,8 +132,7 @@ fn overlapping_splats_make_one_seamless_film() {
         }
     }
     let n = positions.len();
-    let geometry = SplatGeometry::build(
-        Primitive::Disk,
+    let geometry = DiskGeometry::build(
         &positions,
         &vec![Vec3::Z; n],
         &vec![1.5 * spacing; n],
@@ -237,7 +229,7 @@ fn bubble_scene(primitive: Primitive, env: Environment) -> Scene {
         particles: 4000,
         ..BubbleParams::default()
     });
-    let geometry = SplatGeometry::build(
+    let geometry = FilmGeometry::particles(
         primitive,
         &cloud.positions,
         cloud.normals.as_ref().unwrap(),

@@ -1,6 +1,6 @@
 //! Studio rendering: area lights, props lit by next-event estimation, spectral transport.
 
-use filmsplat::geometry::{Primitive, Props, Shape, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, Props, Shape};
 use filmsplat::render::{
     AreaLight, Camera, Environment, FilmShader, LightShape, Material, RenderOutput, RenderSettings,
     Scene, ShadingMode, Staging, render,
@@ -17,8 +17,8 @@ fn settings(w: usize, h: usize, spp: u32) -> RenderSettings {
     }
 }
 
-fn no_films() -> SplatGeometry {
-    SplatGeometry::build(Primitive::Disk, &[], &[], &[], &[]).unwrap()
+fn no_films() -> DiskGeometry {
+    DiskGeometry::build(&[], &[], &[], &[]).unwrap()
 }
 
 fn lut() -> FilmShader {
@@ -150,14 +150,7 @@ fn light_sampling_and_material_sampling_agree_in_the_mean() {
 /// One big disk film of `thickness` nm, head-on, lit from the front only: the image is the
 /// film's reflectance colour.
 fn film_scene(thickness: f32) -> Scene {
-    let geometry = SplatGeometry::build(
-        Primitive::Disk,
-        &[Vec3::ZERO],
-        &[Vec3::Z],
-        &[10.0],
-        &[thickness],
-    )
-    .unwrap();
+    let geometry = DiskGeometry::build(&[Vec3::ZERO], &[Vec3::Z], &[10.0], &[thickness]).unwrap();
     Scene {
         geometry: geometry.into(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 10.0),

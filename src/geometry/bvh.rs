@@ -244,16 +244,11 @@ impl Bvh {
         });
     }
 
-    /// Any-hit query by leaves: stops at the first leaf for which `hit(first, count)` is true.
+    /// Tie-break between two hits at the same distance: true if slot `a` holds the lower
+    /// particle index. Only evaluated on exact ties, so the slot order is rarely touched during
+    /// traversal.
     #[inline]
-    pub(crate) fn any_leaves<F: FnMut(u32, u32) -> bool>(
-        &self,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-        mut hit: F,
-    ) -> bool {
-        let mut t_max = t_max;
-        self.traverse(ray, t_min, &mut t_max, |first, count, _| hit(first, count))
+    pub(crate) fn lower_particle(&self, a: u32, b: u32) -> bool {
+        self.order[a as usize] < self.order[b as usize]
     }
 }

@@ -17,7 +17,7 @@ pub mod memory;
 pub mod reconstruct;
 mod studio;
 
-use crate::geometry::{Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeometry};
+use crate::geometry::{Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry};
 use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
 use crate::io::{CloudPart, PartKind, ReadOptions, read_cloud, read_parts};
 use crate::optics::check_film_params;
@@ -552,7 +552,7 @@ pub fn prepare_with(
     let no_thickness = Vec::new();
     let thickness = cloud.thickness_nm.as_ref().unwrap_or(&no_thickness);
     let geometry: FilmGeometry = if cloud.is_empty() {
-        SplatGeometry::build(Primitive::Sphere, &[], &[], &[], &[])?.into()
+        SphereGeometry::build(&[], &[], &[], &[])?.into()
     } else if primitive == Primitive::Mls {
         MlsSurface::build(&cloud.positions, normals, &radii, thickness)?.into()
     } else {
@@ -568,10 +568,12 @@ pub fn prepare_with(
             detail,
             neighbours,
         )?;
-        if desc.film.blend == Some(false) {
-            splats.set_layer_blend(LayerBlend::NONE);
+        if desc.film.blend == Some(false)
+            && let FilmGeometry::Disks(disks) = &mut splats
+        {
+            disks.set_layer_blend(LayerBlend::NONE);
         }
-        splats.into()
+        splats
     };
     let build_time = t2.elapsed();
 
@@ -656,9 +658,9 @@ fn splats(
     thickness: &[f32],
     detail: bool,
     neighbours: Option<KnnTable>,
-) -> Result<SplatGeometry> {
-    let mut geometry = SplatGeometry::build(primitive, positions, normals, radii, thickness)?;
-    if detail {
+) -> Result<FilmGeometry> {
+    let mut geometry = FilmGeometry::particles(primitive, positions, normals, radii, thickness)?;
+    if detail && let FilmGeometry::Disks(geometry) = &mut geometry {
         // First-order splats: normals tilt with the curvature, thickness follows its gradient.
         // Reuse the estimate's neighbour table when it has enough neighbours per particle.
         // Otherwise find the neighbours a slice at a time, so no whole table is ever held

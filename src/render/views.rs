@@ -273,21 +273,14 @@ fn id_colour(id: u32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Primitive, SplatGeometry};
+    use crate::geometry::DiskGeometry;
     use crate::render::{Camera, Environment};
 
     #[test]
     fn thickness_view_maps_the_range_and_leaves_background() {
         // Two disks side by side, 100 and 500 nm.
         let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
-        let geometry = SplatGeometry::build(
-            Primitive::Disk,
-            &p,
-            &[Vec3::Z; 2],
-            &[0.9; 2],
-            &[100.0, 500.0],
-        )
-        .unwrap();
+        let geometry = DiskGeometry::build(&p, &[Vec3::Z; 2], &[0.9; 2], &[100.0, 500.0]).unwrap();
         let scene = World {
             geometry: geometry.into(),
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),

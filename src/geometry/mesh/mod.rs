@@ -217,18 +217,6 @@ impl MeshGeometry {
         })
     }
 
-    /// True if any triangle is hit with `t_min < t < t_max` (shadow rays).
-    pub fn intersect_any(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        if !ray.is_valid() {
-            return false;
-        }
-        let sr = ShearedRay::new(ray);
-        self.bvh.any(ray, t_min, t_max, |s| {
-            let p = &self.tris[s as usize];
-            sr.intersect(p.v[0], p.v[1], p.v[2], t_min, t_max).is_some()
-        })
-    }
-
     /// The wall width of a thin closed shell, if the mesh is one: from up to `samples` vertices
     /// spread over the mesh, the distance along the vertex normal (either way) to the nearest
     /// other part of the surface. If at least 80% of them find the surface within 5% of the
@@ -273,6 +261,11 @@ impl MeshGeometry {
     /// Bounds of all triangles (slightly padded; empty for no triangles).
     pub fn bounds(&self) -> Aabb {
         self.bvh.bounds()
+    }
+
+    /// The underlying BVH (slot order and nodes), for statistics and debugging.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
     }
 
     /// Number of triangles.
