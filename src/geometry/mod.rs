@@ -15,7 +15,8 @@
 //!   * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced
 //!     directly.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
-//! * [`props`]: opaque staging shapes (plane, sphere, box, cylinder, torus).
+//! * [`shape`]: the shape library of props and area lights (plane, rectangle, disk, sphere, box,
+//!   cylinder, torus, mesh): intersection and light sampling.
 
 mod aabb;
 mod blend;
@@ -31,8 +32,8 @@ pub mod mesh;
 mod mls;
 mod particles;
 pub mod primitives;
-pub mod props;
 mod ray4;
+pub mod shape;
 mod sphere4;
 mod spheres;
 mod wide;
@@ -51,7 +52,7 @@ pub use film::FilmGeometry;
 pub use hit::SurfaceHit;
 pub use mesh::{MeshGeometry, MeshSides};
 pub use mls::{MlsParams, MlsSurface};
-pub use props::{Mesh, PropHit, Props, Shape};
+pub use shape::{Mesh, Shape, ShapeHit, ShapeSample, frame};
 pub use spheres::SphereGeometry;
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`

@@ -63,13 +63,6 @@ pub fn render(
     if settings.spp == 0 {
         return Err(Error::invalid("samples per pixel must be at least 1"));
     }
-    if scene.staging.materials.len() != scene.staging.props.len() {
-        return Err(Error::invalid(format!(
-            "{} props but {} materials",
-            scene.staging.props.len(),
-            scene.staging.materials.len()
-        )));
-    }
     let aspect = w as f32 / h as f32;
     let tracer = Tracer::new(scene, settings);
     let tiles_x = w.div_ceil(TILE);

@@ -9,10 +9,9 @@
 //! (a value of 1 at every wavelength is D65 white), so the pixel's colour is the same
 //! D65-weighted sum the `rgb` mode uses at a film hit, and a grey input stays exactly grey.
 
-use super::lights::AreaLight;
 use super::shading::{FilmShader, SampleShading};
 use crate::optics::FilmFresnel;
-use crate::spectrum::SmitsBasis;
+use crate::spectrum::{Blackbody, SmitsBasis};
 pub use crate::spectrum::{SPECTRAL_LANES, Spectrum};
 use glam::Vec3;
 use std::ops::{Add, Mul, Sub};
@@ -57,10 +56,12 @@ pub trait Lanes {
     fn film_reflectance(&self, cos_i: f32, thickness_nm: f32) -> Self::C;
     /// An RGB input (radiance or reflectance) as carried.
     fn input(&self, rgb: Vec3) -> Self::C;
-    /// What `light` emits from its front, as carried.
+    /// An emitter's RGB `radiance` as carried; `blackbody`, if given, is its spectrum (with
+    /// that colour), which spectral lanes carry instead.
     #[inline]
-    fn emission(&self, light: &AreaLight) -> Self::C {
-        self.input(light.radiance)
+    fn emission(&self, radiance: Vec3, blackbody: Option<&Blackbody>) -> Self::C {
+        let _ = blackbody;
+        self.input(radiance)
     }
     /// Carried radiance to linear sRGB.
     fn to_rgb(&self, c: Self::C) -> Vec3;
@@ -150,8 +151,8 @@ impl Lanes for SpectralLanes {
 
     /// A black-body light emits its Planck spectrum; others their radiance's Smits spectrum.
     #[inline]
-    fn emission(&self, light: &AreaLight) -> Spectrum {
-        match &light.blackbody {
+    fn emission(&self, radiance: Vec3, blackbody: Option<&Blackbody>) -> Spectrum {
+        match blackbody {
             Some(b) => Spectrum(std::array::from_fn(|i| {
                 if i < self.n {
                     b.relative_to_d65(self.lambda[i])
@@ -159,7 +160,7 @@ impl Lanes for SpectralLanes {
                     0.0
                 }
             })),
-            None => self.input(light.radiance),
+            None => self.input(radiance),
         }
     }
 

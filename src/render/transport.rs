@@ -17,10 +17,11 @@
 use super::env_sampling::EnvSampler;
 use super::lights::nearest;
 use super::material::Material;
+use super::props::PropHit;
 use super::radiance::{Lanes, Radiance};
 use super::sampler::Pcg32;
 use super::world::{RenderSettings, World};
-use crate::geometry::{PropHit, Ray, SurfaceHit};
+use crate::geometry::{Ray, SurfaceHit};
 use glam::Vec3;
 
 /// The renderer's view of a scene for one render.
@@ -47,16 +48,6 @@ fn power(a: f32, b: f32) -> f32 {
         a2 / (a2 + b2)
     } else {
         0.0
-    }
-}
-
-/// What a ray meeting `light` sees: its emission from the front, black from behind.
-#[inline]
-fn emitted<L: Lanes>(l: &L, light: &super::lights::AreaLight, front: bool) -> L::C {
-    if front {
-        l.emission(light)
-    } else {
-        L::C::splat(0.0)
     }
 }
 
@@ -119,7 +110,7 @@ impl<'a> Tracer<'a> {
         if !lights.is_empty()
             && let Some((i, _, front)) = nearest(lights, ray, t_min, f32::INFINITY)
         {
-            return emitted(l, &lights[i], front);
+            return lights[i].le(l, front);
         }
         l.input(self.scene.environment.radiance(ray.dir))
     }
@@ -158,7 +149,7 @@ impl<'a> Tracer<'a> {
         if !staging.lights.is_empty()
             && let Some((i, _, front)) = nearest(&staging.lights, ray, t_min, t_max)
         {
-            return (emitted(l, &staging.lights[i], front), None);
+            return (staging.lights[i].le(l, front), None);
         }
         if let Some(p) = prop {
             let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
@@ -226,7 +217,7 @@ impl<'a> Tracer<'a> {
         bounces: u32,
         st: &mut PathState,
     ) -> L::C {
-        let m = &self.scene.staging.materials[hit.index];
+        let m = self.scene.staging.props.material(hit.index);
         let n = if hit.normal.dot(ray.dir) > 0.0 {
             -hit.normal
         } else {
@@ -270,14 +261,14 @@ impl<'a> Tracer<'a> {
         if nee && !lights.is_empty() {
             let i = ((st.rng.next_f32() * nl) as usize).min(lights.len() - 1);
             let u = (st.rng.next_f32(), st.rng.next_f32());
-            if let Some(s) = lights[i].sample(p, u) {
+            if let Some(s) = lights[i].sample_li(p, u) {
                 let cos = n.dot(s.dir);
                 if cos > 0.0 {
                     let pdf = s.pdf / nl;
                     let t_max = s.dist * (1.0 - 1e-4);
                     if let Some(tr) = self.transmittance(l, p, s.dir, t_max, st) {
                         let w = power(pdf, m.pdf(n, wo, s.dir));
-                        let le = l.emission(&lights[i]);
+                        let le = lights[i].le(l, true);
                         sum = sum + m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf);
                     }
                 }
@@ -325,11 +316,11 @@ impl<'a> Tracer<'a> {
         let incoming = match (light, prop) {
             (Some((i, t, front)), _) => {
                 let w = if nee {
-                    power(pdf, lights[i].pdf(p, wi, t) / nl)
+                    power(pdf, lights[i].pdf_li(p, wi, t) / nl)
                 } else {
                     1.0
                 };
-                emitted(l, &lights[i], front) * w
+                lights[i].le(l, front) * w
             }
             (None, Some(h)) if bounces > 0 => {
                 self.shade_prop(l, &ray, &h, depth + 1, bounces - 1, st)

@@ -3,9 +3,9 @@
 
 use super::camera::Camera;
 use super::environment::Environment;
-use super::lights::AreaLight;
-use super::material::Material;
-use crate::geometry::{Droplets, FilmGeometry, Props};
+use super::lights::Light;
+use super::props::Props;
+use crate::geometry::{Droplets, FilmGeometry};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
 
@@ -32,11 +32,9 @@ pub struct World {
 #[derive(Debug, Clone, Default)]
 pub struct Staging {
     /// Area lights.
-    pub lights: Vec<AreaLight>,
-    /// Opaque props.
+    pub lights: Vec<Light>,
+    /// Opaque props, each with its material.
     pub props: Props,
-    /// One material per prop, in the props' order.
-    pub materials: Vec<Material>,
     /// Water droplets (the bulk fluid a rupturing film sheds): clear refracting spheres.
     pub droplets: Droplets,
 }

@@ -19,7 +19,7 @@ mod triangle;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use self::triangle::ShearedRay;
+pub(crate) use self::triangle::ShearedRay;
 use super::{Aabb, Bvh, BvhParams, Ray, SurfaceHit};
 use crate::{Error, Result};
 

@@ -1,61 +1,10 @@
-//! The prop shapes and their ray intersections (analytic, except the torus: sphere tracing of
-//! its exact distance function).
+//! Ray tests of the solid shapes: sphere (the films' robust test), box, capped cylinder and
+//! torus (sphere tracing of its exact distance function).
 
-use super::mesh::Mesh;
+use super::ShapeHit;
 use crate::geometry::Ray;
+use crate::geometry::primitives::sphere_roots;
 use glam::Vec3;
-use std::sync::Arc;
-
-/// An opaque shape. Directions (`normal`, `axis`) are unit vectors.
-#[derive(Clone, Debug)]
-pub enum Shape {
-    /// An infinite plane through `point` (ground, backdrop). Two-sided.
-    Plane {
-        /// A point on the plane.
-        point: Vec3,
-        /// Unit normal (the side reported as outward).
-        normal: Vec3,
-    },
-    /// A sphere.
-    Sphere {
-        /// Centre.
-        centre: Vec3,
-        /// Radius, > 0.
-        radius: f32,
-    },
-    /// An axis-aligned box.
-    Box {
-        /// Centre.
-        centre: Vec3,
-        /// Half the edge lengths, each > 0.
-        half: Vec3,
-    },
-    /// A closed (capped) cylinder from `base` to `base + height · axis`.
-    Cylinder {
-        /// Centre of the bottom cap.
-        base: Vec3,
-        /// Unit axis.
-        axis: Vec3,
-        /// Length along the axis, > 0.
-        height: f32,
-        /// Radius, > 0.
-        radius: f32,
-    },
-    /// A torus (a wire ring): the tube of radius `minor` around the circle of radius `major`
-    /// centred at `centre` in the plane perpendicular to `axis`.
-    Torus {
-        /// Centre of the ring.
-        centre: Vec3,
-        /// Unit axis (the ring's normal).
-        axis: Vec3,
-        /// Ring radius, > 0.
-        major: f32,
-        /// Tube radius, 0 < minor < major for a ring.
-        minor: f32,
-    },
-    /// A triangle mesh.
-    Mesh(Arc<Mesh>),
-}
 
 /// Roots of `a t² + 2 b t + c = 0` (a > 0), ascending; `None` if there are none.
 #[inline]
@@ -79,67 +28,61 @@ fn first_in(roots: (f32, f32), t_min: f32, t_max: f32) -> Option<f32> {
         .find(|&t| t > t_min && t < t_max)
 }
 
-impl Shape {
-    /// First hit with `t_min < t < t_max`: distance and outward unit normal. `eps` is the
-    /// torus's convergence distance.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, eps: f32) -> Option<(f32, Vec3)> {
-        match *self {
-            Shape::Plane { point, normal } => {
-                let denom = ray.dir.dot(normal);
-                if denom.abs() < 1e-12 {
-                    return None;
-                }
-                let t = (point - ray.origin).dot(normal) / denom;
-                (t > t_min && t < t_max).then_some((t, normal))
-            }
-            Shape::Sphere { centre, radius } => {
-                let oc = ray.origin - centre;
-                let roots = quadratic(1.0, oc.dot(ray.dir), oc.length_squared() - radius * radius)?;
-                let t = first_in(roots, t_min, t_max)?;
-                Some((t, (ray.at(t) - centre) / radius))
-            }
-            Shape::Box { centre, half } => {
-                let inv = ray.dir.recip();
-                let o = ray.origin - centre;
-                let t0 = (-half - o) * inv;
-                let t1 = (half - o) * inv;
-                let (near, far) = (t0.min(t1), t0.max(t1));
-                let (tn, tf) = (near.max_element(), far.min_element());
-                if tn > tf {
-                    return None;
-                }
-                let t = first_in((tn, tf), t_min, t_max)?;
-                // The normal is the face whose slab bound is t.
-                let p = (ray.at(t) - centre) / half;
-                let a = p.abs();
-                let normal = if a.x >= a.y && a.x >= a.z {
-                    Vec3::X * p.x.signum()
-                } else if a.y >= a.z {
-                    Vec3::Y * p.y.signum()
-                } else {
-                    Vec3::Z * p.z.signum()
-                };
-                Some((t, normal))
-            }
-            Shape::Cylinder {
-                base,
-                axis,
-                height,
-                radius,
-            } => cylinder(ray, base, axis, height, radius, t_min, t_max),
-            Shape::Torus {
-                centre,
-                axis,
-                major,
-                minor,
-            } => torus(ray, centre, axis, major, minor, t_min, t_max, eps),
-            Shape::Mesh(ref m) => m.intersect(ray, t_min, t_max),
-        }
-    }
+/// The sphere (`centre`, `radius`): the entry point, or the exit point for a ray starting
+/// inside (then `front` is false).
+#[inline]
+pub(super) fn sphere(
+    ray: &Ray,
+    centre: Vec3,
+    radius: f32,
+    t_min: f32,
+    t_max: f32,
+) -> Option<ShapeHit> {
+    let roots = sphere_roots(ray, centre, radius)?;
+    let t = first_in(roots, t_min, t_max)?;
+    Some(ShapeHit {
+        t,
+        normal: (ray.at(t) - centre) / radius,
+        front: (ray.origin - centre).length_squared() - radius * radius > 0.0,
+    })
 }
 
+/// The axis-aligned box around `centre` with half extents `half`: distance and the normal of
+/// the face hit.
+#[inline]
+pub(super) fn aabox(
+    ray: &Ray,
+    centre: Vec3,
+    half: Vec3,
+    t_min: f32,
+    t_max: f32,
+) -> Option<(f32, Vec3)> {
+    let inv = ray.dir.recip();
+    let o = ray.origin - centre;
+    let t0 = (-half - o) * inv;
+    let t1 = (half - o) * inv;
+    let (near, far) = (t0.min(t1), t0.max(t1));
+    let (tn, tf) = (near.max_element(), far.min_element());
+    if tn > tf {
+        return None;
+    }
+    let t = first_in((tn, tf), t_min, t_max)?;
+    // The normal is the face whose slab bound is t.
+    let p = (ray.at(t) - centre) / half;
+    let a = p.abs();
+    let normal = if a.x >= a.y && a.x >= a.z {
+        Vec3::X * p.x.signum()
+    } else if a.y >= a.z {
+        Vec3::Y * p.y.signum()
+    } else {
+        Vec3::Z * p.z.signum()
+    };
+    Some((t, normal))
+}
+
+/// The capped cylinder from `base` along `axis`: distance and outward normal.
 #[allow(clippy::too_many_arguments)]
-fn cylinder(
+pub(super) fn cylinder(
     ray: &Ray,
     base: Vec3,
     axis: Vec3,
@@ -181,8 +124,10 @@ fn cylinder(
     best
 }
 
+/// The torus around `axis`: distance and outward normal; `eps` is the convergence distance of
+/// the sphere tracing, which starts where the ray enters the bounding sphere.
 #[allow(clippy::too_many_arguments)]
-fn torus(
+pub(super) fn torus(
     ray: &Ray,
     centre: Vec3,
     axis: Vec3,
@@ -227,6 +172,7 @@ fn torus(
 
 #[cfg(test)]
 mod tests {
+    use super::super::Shape;
     use super::*;
 
     fn ray(o: [f32; 3], d: [f32; 3]) -> Ray {
@@ -242,6 +188,7 @@ mod tests {
         };
         let (t, n) = plane
             .intersect(&ray([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 2.0).abs() < 1e-5 && n == Vec3::Y);
         let sphere = Shape::Sphere {
@@ -250,11 +197,17 @@ mod tests {
         };
         let (t, n) = sphere
             .intersect(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 4.0).abs() < 1e-5 && (n - Vec3::Z).length() < 1e-5);
-        // From inside: the far side.
+        // From inside: the far side, met from the back.
+        let inside = sphere
+            .intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .unwrap();
+        assert!(!inside.front);
         let (t, _) = sphere
             .intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 1.0).abs() < 1e-5);
         let bx = Shape::Box {
@@ -263,6 +216,7 @@ mod tests {
         };
         let (t, n) = bx
             .intersect(&ray([0.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 3.0).abs() < 1e-5 && n == Vec3::Y);
         assert!(
@@ -277,10 +231,12 @@ mod tests {
         };
         let (t, n) = cyl
             .intersect(&ray([3.0, 1.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 2.5).abs() < 1e-5 && (n - Vec3::X).length() < 1e-5);
         let (t, n) = cyl
             .intersect(&ray([0.1, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 3.0).abs() < 1e-5 && n == Vec3::Y, "top cap");
         assert!(
@@ -296,6 +252,7 @@ mod tests {
         // Down through the tube at x = 1: hits the top of the tube at y = 0.1.
         let (t, n) = torus
             .intersect(&ray([1.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!(
             (t - 1.9).abs() < 1e-4 && (n - Vec3::Y).length() < 1e-3,
@@ -310,6 +267,7 @@ mod tests {
         // Along the axis plane from outside: the outer rim at x = 1.1.
         let (t, _) = torus
             .intersect(&ray([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 1.9).abs() < 1e-4, "{t}");
     }
