@@ -32,6 +32,15 @@ pub(crate) struct Tracer<'a> {
     pub env: Option<EnvSampler>,
 }
 
+/// A prop shading point: position `p` (already offset), normal `n` facing the incoming ray,
+/// direction `wo` back along it, and the prop's material.
+struct PropPoint<'m> {
+    p: Vec3,
+    n: Vec3,
+    wo: Vec3,
+    m: &'m Material,
+}
+
 /// Mutable per-path state.
 pub(crate) struct PathState {
     pub rng: Pcg32,
@@ -231,69 +240,86 @@ impl<'a> Tracer<'a> {
             let reflected = Ray { origin: p, dir };
             return f * self.trace(l, &reflected, 0.0, depth + 1, f, st);
         }
+        let at = PropPoint { p, n, wo, m };
         let k = self.settings.light_samples.max(1);
         let mut sum = L::C::splat(0.0);
         for _ in 0..k {
-            sum = sum + self.prop_sample(l, p, n, wo, m, depth, bounces, st);
+            sum = sum + self.prop_sample(l, &at, depth, bounces, st);
         }
         sum * (1.0 / k as f32)
     }
 
-    /// One sample of each strategy at a prop point `p` (already offset) with normal `n`.
-    #[allow(clippy::too_many_arguments)]
+    /// One sample of each strategy at the prop point `at`.
     fn prop_sample<L: Lanes>(
         &self,
         l: &L,
-        p: Vec3,
-        n: Vec3,
-        wo: Vec3,
-        m: &Material,
+        at: &PropPoint,
         depth: u32,
         bounces: u32,
         st: &mut PathState,
     ) -> L::C {
-        let lights = &self.scene.staging.lights;
-        let env = &self.scene.environment;
-        let nl = lights.len() as f32;
         let mut sum = L::C::splat(0.0);
-        let nee = self.settings.next_event;
-        // Light sampling.
-        if nee && !lights.is_empty() {
-            let i = ((st.rng.next_f32() * nl) as usize).min(lights.len() - 1);
-            let u = (st.rng.next_f32(), st.rng.next_f32());
-            if let Some(s) = lights[i].sample_li(p, u) {
-                let cos = n.dot(s.dir);
-                if cos > 0.0 {
-                    let pdf = s.pdf / nl;
-                    let t_max = s.dist * (1.0 - 1e-4);
-                    if let Some(tr) = self.transmittance(l, p, s.dir, t_max, st) {
-                        let w = power(pdf, m.pdf(n, wo, s.dir));
-                        let le = lights[i].le(l, true);
-                        sum = sum + m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf);
-                    }
-                }
-            }
+        if let Some(c) = self.light_strategy(l, at, st) {
+            sum = sum + c;
         }
-        // Environment sampling.
-        if let Some(es) = &self.env {
-            let (d, pdf) = es.sample((st.rng.next_f32(), st.rng.next_f32()));
-            let cos = n.dot(d);
-            if cos > 0.0
-                && let Some(tr) = self.transmittance(l, p, d, f32::INFINITY, st)
-            {
-                let w = power(pdf, m.pdf(n, wo, d));
-                let le = l.input(env.radiance(d));
-                sum = sum + m.eval(l, n, wo, d) * tr * le * (cos * w / pdf);
-            }
+        if let Some(c) = self.env_strategy(l, at, st) {
+            sum = sum + c;
         }
-        // Material sampling: emitters it meets, or one indirect bounce off another prop.
+        match self.material_strategy(l, at, depth, bounces, st) {
+            Some(c) => sum + c,
+            None => sum,
+        }
+    }
+
+    /// Light sampling: a point on a light chosen uniformly, MIS-weighted against the material.
+    fn light_strategy<L: Lanes>(&self, l: &L, at: &PropPoint, st: &mut PathState) -> Option<L::C> {
+        let lights = &self.scene.staging.lights;
+        if !self.settings.next_event || lights.is_empty() {
+            return None;
+        }
+        let (p, n, wo, m) = (at.p, at.n, at.wo, at.m);
+        let nl = lights.len() as f32;
+        let i = ((st.rng.next_f32() * nl) as usize).min(lights.len() - 1);
+        let u = (st.rng.next_f32(), st.rng.next_f32());
+        let s = lights[i].sample_li(p, u)?;
+        let cos = Some(n.dot(s.dir)).filter(|&c| c > 0.0)?;
+        let pdf = s.pdf / nl;
+        let t_max = s.dist * (1.0 - 1e-4);
+        let tr = self.transmittance(l, p, s.dir, t_max, st)?;
+        let w = power(pdf, m.pdf(n, wo, s.dir));
+        let le = lights[i].le(l, true);
+        Some(m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf))
+    }
+
+    /// Environment sampling by its importance distribution, MIS-weighted against the material.
+    fn env_strategy<L: Lanes>(&self, l: &L, at: &PropPoint, st: &mut PathState) -> Option<L::C> {
+        let es = self.env.as_ref()?;
+        let (p, n, wo, m) = (at.p, at.n, at.wo, at.m);
+        let (d, pdf) = es.sample((st.rng.next_f32(), st.rng.next_f32()));
+        let cos = Some(n.dot(d)).filter(|&c| c > 0.0)?;
+        let tr = self.transmittance(l, p, d, f32::INFINITY, st)?;
+        let w = power(pdf, m.pdf(n, wo, d));
+        let le = l.input(self.scene.environment.radiance(d));
+        Some(m.eval(l, n, wo, d) * tr * le * (cos * w / pdf))
+    }
+
+    /// Material sampling: the emitters the sampled direction meets (MIS-weighted against light
+    /// and environment sampling), or one indirect bounce off another prop.
+    fn material_strategy<L: Lanes>(
+        &self,
+        l: &L,
+        at: &PropPoint,
+        depth: u32,
+        bounces: u32,
+        st: &mut PathState,
+    ) -> Option<L::C> {
+        let (p, n, wo, m) = (at.p, at.n, at.wo, at.m);
+        let lights = &self.scene.staging.lights;
         let u = (st.rng.next_f32(), st.rng.next_f32(), st.rng.next_f32());
-        let Some(wi) = m.sample(n, wo, u) else {
-            return sum;
-        };
+        let wi = m.sample(n, wo, u)?;
         let pdf = m.pdf(n, wo, wi);
         if pdf <= 0.0 {
-            return sum;
+            return None;
         }
         let ray = Ray { origin: p, dir: wi };
         let props = &self.scene.staging.props;
@@ -310,13 +336,11 @@ impl<'a> Tracer<'a> {
             nearest(lights, &ray, 0.0, t_prop)
         };
         let t_end = light.map_or(t_prop, |x| x.1);
-        let Some(tr) = self.film_transmittance(l, &ray, t_end, st) else {
-            return sum;
-        };
+        let tr = self.film_transmittance(l, &ray, t_end, st)?;
         let incoming = match (light, prop) {
             (Some((i, t, front)), _) => {
-                let w = if nee {
-                    power(pdf, lights[i].pdf_li(p, wi, t) / nl)
+                let w = if self.settings.next_event {
+                    power(pdf, lights[i].pdf_li(p, wi, t) / lights.len() as f32)
                 } else {
                     1.0
                 };
@@ -328,10 +352,10 @@ impl<'a> Tracer<'a> {
             (None, Some(_)) => L::C::splat(0.0),
             (None, None) => {
                 let w = self.env.as_ref().map_or(1.0, |es| power(pdf, es.pdf(wi)));
-                l.input(env.radiance(wi)) * w
+                l.input(self.scene.environment.radiance(wi)) * w
             }
         };
-        sum + m.eval(l, n, wo, wi) * tr * incoming * (n.dot(wi) / pdf)
+        Some(m.eval(l, n, wo, wi) * tr * incoming * (n.dot(wi) / pdf))
     }
 
     /// What passes from `p` along `dir` up to `t_max`: `None` if a prop or light blocks it,

@@ -180,8 +180,24 @@ pub fn render_view_of(
             "render_view: the shaded view is the integrator's".into(),
         ));
     }
+    let hits = primary_hits(scene, width, height);
+    let (colour, legend) = colouring(view, &hits, attribute);
+    let rgb = hits
+        .par_iter()
+        .map(|h| h.as_ref().map_or(BACKGROUND, &colour))
+        .collect();
+    Ok(ViewImage {
+        width,
+        height,
+        rgb,
+        legend,
+    })
+}
+
+/// The first film crossing of each pixel's centre ray, row-major.
+fn primary_hits(scene: &World, width: usize, height: usize) -> Vec<Option<SurfaceHit>> {
     let aspect = width as f32 / height as f32;
-    let hits: Vec<Option<SurfaceHit>> = (0..width * height)
+    (0..width * height)
         .into_par_iter()
         .with_min_len(256)
         .map(|k| {
@@ -193,7 +209,16 @@ pub fn render_view_of(
             );
             scene.geometry.intersect(&ray, 0.0, f32::INFINITY)
         })
-        .collect();
+        .collect()
+}
+
+/// How `view` colours a crossing, and its colour bar: value views span the range of the
+/// values in `hits` (unless the attribute gives one).
+fn colouring(
+    view: View,
+    hits: &[Option<SurfaceHit>],
+    attribute: Option<&AttributeValues>,
+) -> (Colouring, Option<Legend>) {
     let range = |f: &dyn Fn(&SurfaceHit) -> f32| {
         hits.iter()
             .flatten()
@@ -202,28 +227,42 @@ pub fn render_view_of(
                 (lo.min(v), hi.max(v))
             })
     };
-    let legend = |title: &str, (min, max): (f32, f32), ramp| Legend {
-        title: title.into(),
-        min,
-        max,
-        ramp,
+    // A value view: the legend's ramp applied to `value` of the crossing.
+    let ramp = |title: &str,
+                (min, max): (f32, f32),
+                ramp,
+                value: Box<dyn Fn(&SurfaceHit) -> f32 + Sync>|
+     -> (Colouring, Option<Legend>) {
+        let l = Legend {
+            title: title.into(),
+            min,
+            max,
+            ramp,
+        };
+        let paint = l.clone();
+        (Box::new(move |h| paint.colour(value(h))), Some(l))
     };
-    let (colour, legend): (Colouring, Option<Legend>) = match view {
-        View::Thickness => {
-            let l = legend("thickness (nm)", range(&|h| h.thickness_nm), Ramp::Viridis);
-            let paint = l.clone();
-            (Box::new(move |h| paint.colour(h.thickness_nm)), Some(l))
-        }
-        View::Depth => {
-            let l = legend("distance (scene units)", range(&|h| h.t), Ramp::GreyFalling);
-            let paint = l.clone();
-            (Box::new(move |h| paint.colour(h.t)), Some(l))
-        }
+    match view {
+        View::Thickness => ramp(
+            "thickness (nm)",
+            range(&|h| h.thickness_nm),
+            Ramp::Viridis,
+            Box::new(|h| h.thickness_nm),
+        ),
+        View::Depth => ramp(
+            "distance (scene units)",
+            range(&|h| h.t),
+            Ramp::GreyFalling,
+            Box::new(|h| h.t),
+        ),
         View::Coverage => {
             let r = (1.0, range(&|h| h.coverage as f32).1.max(2.0));
-            let l = legend("splats blended", r, Ramp::Viridis);
-            let paint = l.clone();
-            (Box::new(move |h| paint.colour(h.coverage as f32)), Some(l))
+            ramp(
+                "splats blended",
+                r,
+                Ramp::Viridis,
+                Box::new(|h| h.coverage as f32),
+            )
         }
         View::Normal => (
             Box::new(|h| (h.normal * 0.5 + Vec3::splat(0.5)).map(srgb_to_linear)),
@@ -231,31 +270,15 @@ pub fn render_view_of(
         ),
         View::ParticleId => (Box::new(|h| id_colour(h.particle)), None),
         View::Attribute => {
-            let a = attribute.expect("checked above");
-            let value = |h: &SurfaceHit| a.values.get(h.particle as usize).copied().unwrap_or(0.0);
-            let r = a.range.unwrap_or_else(|| range(&value));
-            let l = legend(&a.title, r, Ramp::Viridis);
-            let paint = l.clone();
+            let a = attribute.expect("checked by render_view_of");
             let values = a.values.clone();
-            (
-                Box::new(move |h| {
-                    paint.colour(values.get(h.particle as usize).copied().unwrap_or(0.0))
-                }),
-                Some(l),
-            )
+            let value =
+                move |h: &SurfaceHit| values.get(h.particle as usize).copied().unwrap_or(0.0);
+            let r = a.range.unwrap_or_else(|| range(&value));
+            ramp(&a.title, r, Ramp::Viridis, Box::new(value))
         }
-        View::Shaded => unreachable!("rejected above"),
-    };
-    let rgb = hits
-        .par_iter()
-        .map(|h| h.as_ref().map_or(BACKGROUND, &colour))
-        .collect();
-    Ok(ViewImage {
-        width,
-        height,
-        rgb,
-        legend,
-    })
+        View::Shaded => unreachable!("rejected by render_view_of"),
+    }
 }
 
 /// Linear value of an sRGB-encoded grey level, so ramps look even on screen.

@@ -180,7 +180,7 @@ mod tests {
     }
 
     #[test]
-    fn each_shape_is_hit_where_geometry_says() {
+    fn planes_and_spheres_are_hit_where_geometry_says() {
         let eps = 1e-5;
         let plane = Shape::Plane {
             point: Vec3::new(0.0, -1.0, 0.0),
@@ -210,6 +210,11 @@ mod tests {
             .map(|h| (h.t, h.normal))
             .unwrap();
         assert!((t - 1.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn boxes_and_cylinders_are_hit_on_the_right_face() {
+        let eps = 1e-5;
         let bx = Shape::Box {
             centre: Vec3::ZERO,
             half: Vec3::new(1.0, 2.0, 3.0),
@@ -243,6 +248,11 @@ mod tests {
             cyl.intersect(&ray([3.0, 2.5, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
                 .is_none()
         );
+    }
+
+    #[test]
+    fn a_torus_is_hit_on_its_tube_and_missed_through_its_hole() {
+        let eps = 1e-5;
         let torus = Shape::Torus {
             centre: Vec3::ZERO,
             axis: Vec3::Y,
