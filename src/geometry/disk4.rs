@@ -75,7 +75,7 @@ mod tests {
     use super::*;
     use crate::geometry::Ray;
     use crate::geometry::primitives::intersect_disk;
-    use crate::geometry::ray4::{assert_lanes_match, test_rng};
+    use crate::geometry::ray4::{assert_lanes_match, test_packet, test_rng};
 
     /// Every lane agrees bit for bit with the scalar test, including near-parallel rays, rays
     /// in a disk's plane, masked-off lanes and padding disks.
@@ -84,16 +84,15 @@ mod tests {
         let mut rnd = test_rng(0x2545_f491);
         let mut hits = 0;
         for k in 0..4000 {
-            let mut disks = [PAD_DISK; 4];
-            for d in disks.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
+            let disks = test_packet(k, PAD_DISK, || {
                 let n = Vec3::new(rnd(), rnd(), rnd() + 1e-3).normalize();
-                *d = DiskPrim {
+                DiskPrim {
                     center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
                     radius: 0.05 + 0.3 * rnd().abs(),
                     normal: if k % 5 == 0 { Vec3::Z } else { n },
                     thickness: 0.0,
-                };
-            }
+                }
+            });
             let origin = Vec3::new(rnd(), rnd(), rnd() * 0.1);
             let dir = if k % 5 == 0 {
                 // Parallel, or nearly parallel, to the z-normal disks.

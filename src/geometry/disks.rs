@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::disk4::{DiskPrim, PAD_DISK};
-use super::particles::{check_particles, padded_slots, particle_bvh};
+use super::particles::{check_particles, padded_slots, particle_accessors, particle_bvh};
 use super::primitives::disk_bounds;
 use super::{Aabb, Bvh, LayerBlend, Ray, SurfaceHit};
 use crate::{Error, Result};
@@ -100,20 +100,7 @@ impl DiskGeometry {
         })
     }
 
-    /// Bounds of all disks (slightly padded; the empty box for zero particles).
-    pub fn bounds(&self) -> Aabb {
-        self.bvh.bounds()
-    }
-
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.bvh.len()
-    }
-
-    /// True if there are no particles.
-    pub fn is_empty(&self) -> bool {
-        self.bvh.is_empty()
-    }
+    particle_accessors!();
 
     /// Heap bytes held (disks, detail, BVH nodes, slot order).
     pub fn memory_bytes(&self) -> usize {
@@ -214,10 +201,5 @@ impl DiskGeometry {
             }
             _ => d.normal,
         }
-    }
-
-    /// The underlying BVH (slot order and nodes), for statistics and debugging.
-    pub fn bvh(&self) -> &Bvh {
-        &self.bvh
     }
 }

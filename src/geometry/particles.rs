@@ -9,6 +9,33 @@ use super::ray4::PAD;
 use super::{Aabb, Bvh};
 use crate::{Error, Result};
 
+/// The accessors every particle geometry with a `bvh: Bvh` field shares: bounds, count,
+/// emptiness and the tree itself (expanded inside its `impl`).
+macro_rules! particle_accessors {
+    () => {
+        /// Bounds of all particles (slightly padded; the empty box for zero particles).
+        pub fn bounds(&self) -> Aabb {
+            self.bvh.bounds()
+        }
+
+        /// Number of particles.
+        pub fn len(&self) -> usize {
+            self.bvh.len()
+        }
+
+        /// True if there are no particles.
+        pub fn is_empty(&self) -> bool {
+            self.bvh.is_empty()
+        }
+
+        /// The underlying BVH (slot order and nodes), for statistics and debugging.
+        pub fn bvh(&self) -> &Bvh {
+            &self.bvh
+        }
+    };
+}
+pub(super) use particle_accessors;
+
 /// Relative padding of primitive boxes so rounding in the hit point never makes the BVH cull a
 /// primitive the exact test would accept.
 const BOUNDS_PAD: f32 = 1e-6;

@@ -52,6 +52,17 @@ pub(super) fn test_rng(mut s: u32) -> impl FnMut() -> f32 {
     }
 }
 
+/// A test packet for case `k`: `make()` in the first four lanes (two for every seventh case),
+/// `pad` in the rest.
+#[cfg(test)]
+pub(super) fn test_packet<P: Copy>(k: usize, pad: P, mut make: impl FnMut() -> P) -> [P; 4] {
+    let mut packet = [pad; 4];
+    for p in packet.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
+        *p = make();
+    }
+    packet
+}
+
 /// Checks one packet's lane results against the scalar test, bit for bit: `got(i)` is lane
 /// `i`'s result if its mask bit is set, `want(i)` the scalar result (masked-off lanes must
 /// miss). Returns the number of hits.

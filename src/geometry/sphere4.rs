@@ -75,7 +75,7 @@ mod tests {
     use super::*;
     use crate::geometry::Ray;
     use crate::geometry::primitives::intersect_sphere;
-    use crate::geometry::ray4::{assert_lanes_match, test_rng};
+    use crate::geometry::ray4::{assert_lanes_match, test_packet, test_rng};
 
     /// Every lane agrees bit for bit with the scalar test: rays from outside, from inside, on
     /// the surface, tangent and missing, masked-off lanes and padding spheres.
@@ -84,14 +84,11 @@ mod tests {
         let mut rnd = test_rng(0x9e37_79b9);
         let mut hits = 0;
         for k in 0..4000 {
-            let mut spheres = [PAD_SPHERE; 4];
-            for p in spheres.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
-                *p = SpherePrim {
-                    center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
-                    radius: 0.05 + 0.3 * rnd().abs(),
-                    thickness: 0.0,
-                };
-            }
+            let spheres = test_packet(k, PAD_SPHERE, || SpherePrim {
+                center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
+                radius: 0.05 + 0.3 * rnd().abs(),
+                thickness: 0.0,
+            });
             let c = spheres[k % 2].center;
             let r = spheres[k % 2].radius;
             let (origin, dir) = match k % 4 {

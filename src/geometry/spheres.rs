@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::particles::{check_particles, padded_slots, particle_bvh};
+use super::particles::{check_particles, padded_slots, particle_accessors, particle_bvh};
 use super::primitives::{sphere_bounds, sphere_roots};
 use super::ray4::Ray4;
 use super::sphere4::{PAD_SPHERE, SpherePrim};
@@ -115,28 +115,10 @@ impl SphereGeometry {
             .filter_map(move |s| Some((s, self.spheres[s..].first_chunk::<4>()?, (end - s).min(4))))
     }
 
-    /// Bounds of all spheres (slightly padded; the empty box for zero particles).
-    pub fn bounds(&self) -> Aabb {
-        self.bvh.bounds()
-    }
-
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.bvh.len()
-    }
-
-    /// True if there are no particles.
-    pub fn is_empty(&self) -> bool {
-        self.bvh.is_empty()
-    }
+    particle_accessors!();
 
     /// Heap bytes held (spheres, BVH nodes, slot order).
     pub fn memory_bytes(&self) -> usize {
         self.bvh.memory_bytes() + self.spheres.capacity() * std::mem::size_of::<SpherePrim>()
-    }
-
-    /// The underlying BVH (slot order and nodes), for statistics and debugging.
-    pub fn bvh(&self) -> &Bvh {
-        &self.bvh
     }
 }

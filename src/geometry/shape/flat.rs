@@ -6,32 +6,32 @@ use super::ShapeHit;
 use crate::geometry::Ray;
 
 /// The ray's crossing of the plane through `point` with (not necessarily unit) normal `n`
-/// within `(t_min, t_max)`: `(t, dir · n)`. `None` for a ray (nearly) parallel to the plane.
+/// within `(t_min, t_max)`, kept if `inside(offset from point)`; `normal` is reported, and the
+/// front is the side `n` points to. A ray (nearly) parallel to the plane misses.
 #[inline]
-fn plane_t(ray: &Ray, point: Vec3, n: Vec3, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
+fn flat(
+    ray: &Ray,
+    (point, n): (Vec3, Vec3),
+    (t_min, t_max): (f32, f32),
+    inside: impl Fn(Vec3) -> bool,
+    normal: impl Fn() -> Vec3,
+) -> Option<ShapeHit> {
     let denom = ray.dir.dot(n);
     if denom.abs() < 1e-12 {
         return None;
     }
     let t = (point - ray.origin).dot(n) / denom;
-    (t > t_min && t < t_max).then_some((t, denom))
-}
-
-/// An infinite two-sided plane.
-#[inline]
-pub(super) fn plane(
-    ray: &Ray,
-    point: Vec3,
-    normal: Vec3,
-    t_min: f32,
-    t_max: f32,
-) -> Option<ShapeHit> {
-    let (t, denom) = plane_t(ray, point, normal, t_min, t_max)?;
-    Some(ShapeHit {
+    (t > t_min && t < t_max && inside(ray.at(t) - point)).then(|| ShapeHit {
         t,
-        normal,
+        normal: normal(),
         front: denom < 0.0,
     })
+}
+
+/// An infinite two-sided plane through `point` with unit `normal`.
+#[inline]
+pub(super) fn plane(ray: &Ray, point: Vec3, normal: Vec3, range: (f32, f32)) -> Option<ShapeHit> {
+    flat(ray, (point, normal), range, |_| true, || normal)
 }
 
 /// The parallelogram `centre + a·u + b·v`, |a|, |b| ≤ 1, facing `u × v`.
@@ -39,36 +39,24 @@ pub(super) fn plane(
 pub(super) fn rect(
     ray: &Ray,
     centre: Vec3,
-    u: Vec3,
-    v: Vec3,
-    t_min: f32,
-    t_max: f32,
+    (u, v): (Vec3, Vec3),
+    range: (f32, f32),
 ) -> Option<ShapeHit> {
     let n = u.cross(v);
-    let (t, denom) = plane_t(ray, centre, n, t_min, t_max)?;
-    let d = ray.at(t) - centre;
-    let inside = d.dot(u).abs() <= u.length_squared() && d.dot(v).abs() <= v.length_squared();
-    inside.then(|| ShapeHit {
-        t,
-        normal: n.normalize(),
-        front: denom < 0.0,
-    })
+    let inside =
+        |d: Vec3| d.dot(u).abs() <= u.length_squared() && d.dot(v).abs() <= v.length_squared();
+    flat(ray, (centre, n), range, inside, || n.normalize())
 }
 
-/// The disk of `radius` around `centre` facing `normal`.
+/// The disk of `radius` around `centre` facing unit `normal`.
 #[inline]
 pub(super) fn disk(
     ray: &Ray,
     centre: Vec3,
     normal: Vec3,
     radius: f32,
-    t_min: f32,
-    t_max: f32,
+    range: (f32, f32),
 ) -> Option<ShapeHit> {
-    let (t, denom) = plane_t(ray, centre, normal, t_min, t_max)?;
-    ((ray.at(t) - centre).length_squared() <= radius * radius).then_some(ShapeHit {
-        t,
-        normal,
-        front: denom < 0.0,
-    })
+    let inside = |d: Vec3| d.length_squared() <= radius * radius;
+    flat(ray, (centre, normal), range, inside, || normal)
 }

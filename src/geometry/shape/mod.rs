@@ -113,13 +113,13 @@ impl Shape {
             front: ray.dir.dot(normal) < 0.0,
         };
         match *self {
-            Shape::Plane { point, normal } => flat::plane(ray, point, normal, t_min, t_max),
-            Shape::Rect { centre, u, v } => flat::rect(ray, centre, u, v, t_min, t_max),
+            Shape::Plane { point, normal } => flat::plane(ray, point, normal, (t_min, t_max)),
+            Shape::Rect { centre, u, v } => flat::rect(ray, centre, (u, v), (t_min, t_max)),
             Shape::Disk {
                 centre,
                 normal,
                 radius,
-            } => flat::disk(ray, centre, normal, radius, t_min, t_max),
+            } => flat::disk(ray, centre, normal, radius, (t_min, t_max)),
             Shape::Sphere { centre, radius } => round::sphere(ray, centre, radius, t_min, t_max),
             Shape::Box { centre, half } => {
                 round::aabox(ray, centre, half, t_min, t_max).map(facing)

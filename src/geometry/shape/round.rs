@@ -179,80 +179,60 @@ mod tests {
         Ray::new(Vec3::from(o), Vec3::from(d))
     }
 
+    /// Distance and normal of the hit of the ray `o + t d` with `t` in (0, 10).
+    fn hit(shape: &Shape, o: [f32; 3], d: [f32; 3]) -> Option<(f32, Vec3)> {
+        shape
+            .intersect(&ray(o, d), 0.0, 10.0, 1e-5)
+            .map(|h| (h.t, h.normal))
+    }
+
     #[test]
     fn planes_and_spheres_are_hit_where_geometry_says() {
-        let eps = 1e-5;
         let plane = Shape::Plane {
             point: Vec3::new(0.0, -1.0, 0.0),
             normal: Vec3::Y,
         };
-        let (t, n) = plane
-            .intersect(&ray([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, n) = hit(&plane, [0.0, 1.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
         assert!((t - 2.0).abs() < 1e-5 && n == Vec3::Y);
         let sphere = Shape::Sphere {
             centre: Vec3::ZERO,
             radius: 1.0,
         };
-        let (t, n) = sphere
-            .intersect(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, n) = hit(&sphere, [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]).unwrap();
         assert!((t - 4.0).abs() < 1e-5 && (n - Vec3::Z).length() < 1e-5);
         // From inside: the far side, met from the back.
         let inside = sphere
-            .intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, eps)
+            .intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, 1e-5)
             .unwrap();
         assert!(!inside.front);
-        let (t, _) = sphere
-            .intersect(&ray([0.0; 3], [1.0, 0.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, _) = hit(&sphere, [0.0; 3], [1.0, 0.0, 0.0]).unwrap();
         assert!((t - 1.0).abs() < 1e-5);
     }
 
     #[test]
     fn boxes_and_cylinders_are_hit_on_the_right_face() {
-        let eps = 1e-5;
         let bx = Shape::Box {
             centre: Vec3::ZERO,
             half: Vec3::new(1.0, 2.0, 3.0),
         };
-        let (t, n) = bx
-            .intersect(&ray([0.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, n) = hit(&bx, [0.0, 5.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
         assert!((t - 3.0).abs() < 1e-5 && n == Vec3::Y);
-        assert!(
-            bx.intersect(&ray([5.0, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
-                .is_none()
-        );
+        assert!(hit(&bx, [5.0, 5.0, 0.0], [0.0, -1.0, 0.0]).is_none());
         let cyl = Shape::Cylinder {
             base: Vec3::ZERO,
             axis: Vec3::Y,
             height: 2.0,
             radius: 0.5,
         };
-        let (t, n) = cyl
-            .intersect(&ray([3.0, 1.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, n) = hit(&cyl, [3.0, 1.0, 0.0], [-1.0, 0.0, 0.0]).unwrap();
         assert!((t - 2.5).abs() < 1e-5 && (n - Vec3::X).length() < 1e-5);
-        let (t, n) = cyl
-            .intersect(&ray([0.1, 5.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, n) = hit(&cyl, [0.1, 5.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
         assert!((t - 3.0).abs() < 1e-5 && n == Vec3::Y, "top cap");
-        assert!(
-            cyl.intersect(&ray([3.0, 2.5, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
-                .is_none()
-        );
+        assert!(hit(&cyl, [3.0, 2.5, 0.0], [-1.0, 0.0, 0.0]).is_none());
     }
 
     #[test]
     fn a_torus_is_hit_on_its_tube_and_missed_through_its_hole() {
-        let eps = 1e-5;
         let torus = Shape::Torus {
             centre: Vec3::ZERO,
             axis: Vec3::Y,
@@ -260,25 +240,15 @@ mod tests {
             minor: 0.1,
         };
         // Down through the tube at x = 1: hits the top of the tube at y = 0.1.
-        let (t, n) = torus
-            .intersect(&ray([1.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, n) = hit(&torus, [1.0, 2.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
         assert!(
             (t - 1.9).abs() < 1e-4 && (n - Vec3::Y).length() < 1e-3,
             "{t} {n}"
         );
         // Through the hole: a miss.
-        assert!(
-            torus
-                .intersect(&ray([0.0, 2.0, 0.0], [0.0, -1.0, 0.0]), 0.0, 10.0, eps)
-                .is_none()
-        );
+        assert!(hit(&torus, [0.0, 2.0, 0.0], [0.0, -1.0, 0.0]).is_none());
         // Along the axis plane from outside: the outer rim at x = 1.1.
-        let (t, _) = torus
-            .intersect(&ray([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]), 0.0, 10.0, eps)
-            .map(|h| (h.t, h.normal))
-            .unwrap();
+        let (t, _) = hit(&torus, [3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap();
         assert!((t - 1.9).abs() < 1e-4, "{t}");
     }
 }
