@@ -119,7 +119,7 @@ fn main() {
             geometry.intersect(ray, 0.0, f32::INFINITY).is_some()
         });
         let scene = Scene {
-            geometry: geometry.into(),
+            geometry,
             camera,
             environment: Environment::Studio(Studio::default()),
             layer_skip: 0.5 * radii[0],

@@ -57,7 +57,10 @@ pub(super) fn test_rng(mut s: u32) -> impl FnMut() -> f32 {
 #[cfg(test)]
 pub(super) fn test_packet<P: Copy>(k: usize, pad: P, mut make: impl FnMut() -> P) -> [P; 4] {
     let mut packet = [pad; 4];
-    for p in packet.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
+    for p in packet
+        .iter_mut()
+        .take(if k.is_multiple_of(7) { 2 } else { 4 })
+    {
         *p = make();
     }
     packet
