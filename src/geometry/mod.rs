@@ -36,6 +36,7 @@ mod ray4;
 pub mod shape;
 mod sphere4;
 mod spheres;
+mod tree;
 mod wide;
 
 use std::fmt;
@@ -45,7 +46,7 @@ use glam::Vec3;
 
 pub use aabb::Aabb;
 pub use blend::LayerBlend;
-pub use bvh::{Bvh, BvhNode, BvhParams};
+pub use bvh::{BvhNode, BvhParams};
 pub use disks::DiskGeometry;
 pub use droplets::{DropletHit, Droplets, WATER_IOR};
 pub use film::FilmGeometry;
@@ -54,6 +55,7 @@ pub use mesh::{MeshGeometry, MeshSides};
 pub use mls::{MlsParams, MlsSurface};
 pub use shape::{Mesh, Shape, ShapeHit, ShapeSample, frame};
 pub use spheres::SphereGeometry;
+pub use tree::Bvh;
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`
 /// for a zero or non-finite direction).

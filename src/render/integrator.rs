@@ -15,7 +15,7 @@
 use super::radiance::{Lanes, Radiance, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading, ShadingMode};
-use super::transport::{PathState, Tracer};
+use super::transport::{Branch, PathState, Tracer};
 use super::world::{RenderSettings, World};
 use crate::geometry::SurfaceHit;
 use crate::{Error, Result};
@@ -338,7 +338,7 @@ fn first<L: Lanes>(
     ray: &crate::geometry::Ray,
     st: &mut PathState,
 ) -> (Vec3, Option<SurfaceHit>) {
-    let (c, hit) = tr.nearest(l, ray, 0.0, 0, L::C::splat(1.0), st);
+    let (c, hit) = tr.nearest(l, Branch::new(ray, 0, L::C::splat(1.0)), st);
     (l.to_rgb(c), hit)
 }
 

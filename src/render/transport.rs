@@ -32,6 +32,30 @@ pub(crate) struct Tracer<'a> {
     pub env: Option<EnvSampler>,
 }
 
+/// A branch of the ray tree: its ray, the distance along it where the search starts, its
+/// depth (film crossings and bounces so far) and its weight (what it contributes per unit
+/// radiance).
+#[derive(Clone, Copy)]
+pub(crate) struct Branch<'r, C> {
+    pub ray: &'r Ray,
+    pub t_min: f32,
+    pub depth: u32,
+    pub weight: C,
+}
+
+impl<'r, C> Branch<'r, C> {
+    /// A branch along `ray` from its origin on.
+    #[inline]
+    pub fn new(ray: &'r Ray, depth: u32, weight: C) -> Self {
+        Branch {
+            ray,
+            t_min: 0.0,
+            depth,
+            weight,
+        }
+    }
+}
+
 /// A prop shading point: position `p` (already offset), normal `n` facing the incoming ray,
 /// direction `wo` back along it, and the prop's material.
 struct PropPoint<'m> {
@@ -77,15 +101,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// Radiance arriving along `ray` from beyond `t_min`.
-    pub fn trace<L: Lanes>(
-        &self,
-        l: &L,
-        ray: &Ray,
-        t_min: f32,
-        depth: u32,
-        weight: L::C,
-        st: &mut PathState,
-    ) -> L::C {
+    pub fn trace<L: Lanes>(&self, l: &L, b: Branch<'_, L::C>, st: &mut PathState) -> L::C {
+        let Branch {
+            ray,
+            t_min,
+            depth,
+            weight,
+        } = b;
         let w = weight.max_channel();
         if depth >= self.settings.max_depth || w < self.settings.min_weight {
             return self.escape(l, ray, t_min);
@@ -102,10 +124,10 @@ impl<'a> Tracer<'a> {
                 return esc;
             }
             let boost = weight * (1.0 / q);
-            let full = self.nearest(l, ray, t_min, depth, boost, st).0;
+            let full = self.nearest(l, Branch { weight: boost, ..b }, st).0;
             return esc + (full - esc) * (1.0 / q);
         }
-        self.nearest(l, ray, t_min, depth, weight, st).0
+        self.nearest(l, b, st).0
     }
 
     /// What a pruned branch along `ray` sees from its origin on (see `escape`).
@@ -129,12 +151,15 @@ impl<'a> Tracer<'a> {
     pub fn nearest<L: Lanes>(
         &self,
         l: &L,
-        ray: &Ray,
-        t_min: f32,
-        depth: u32,
-        weight: L::C,
+        b: Branch<'_, L::C>,
         st: &mut PathState,
     ) -> (L::C, Option<SurfaceHit>) {
+        let Branch {
+            ray,
+            t_min,
+            depth,
+            weight,
+        } = b;
         st.rays += 1;
         let staging = &self.scene.staging;
         let film = self.scene.geometry.intersect(ray, t_min, f32::INFINITY);
@@ -192,14 +217,13 @@ impl<'a> Tracer<'a> {
         let r = l.film_reflectance(cos_i, hit.thickness_nm);
         let t = L::C::splat(1.0) - r;
         // Transmitted: the same line, beyond the film layer.
-        let lt = self.trace(
-            l,
+        let transmitted = Branch {
             ray,
-            hit.t_exit + self.scene.epsilon,
-            depth + 1,
-            weight * t,
-            st,
-        );
+            t_min: hit.t_exit + self.scene.epsilon,
+            depth: depth + 1,
+            weight: weight * t,
+        };
+        let lt = self.trace(l, transmitted, st);
         // Reflected: mirror about the normal that faces the incoming ray.
         let n = if cos_signed < 0.0 {
             hit.normal
@@ -212,7 +236,13 @@ impl<'a> Tracer<'a> {
             origin: hit.position,
             dir,
         };
-        let lr = self.trace(l, &reflected, skip, depth + 1, weight * r, st);
+        let reflected = Branch {
+            ray: &reflected,
+            t_min: skip,
+            depth: depth + 1,
+            weight: weight * r,
+        };
+        let lr = self.trace(l, reflected, st);
         r * lr + t * lt
     }
 
@@ -238,7 +268,7 @@ impl<'a> Tracer<'a> {
             let f = m.mirror_reflectance(l, n.dot(wo));
             let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
             let reflected = Ray { origin: p, dir };
-            return f * self.trace(l, &reflected, 0.0, depth + 1, f, st);
+            return f * self.trace(l, Branch::new(&reflected, depth + 1, f), st);
         }
         let at = PropPoint { p, n, wo, m };
         let k = self.settings.light_samples.max(1);
