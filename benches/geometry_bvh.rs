@@ -8,7 +8,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use filmsplat::geometry::{Primitive, Ray, SplatGeometry};
+use filmsplat::geometry::{FilmGeometry, Primitive, Ray};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -50,13 +50,13 @@ fn cloud() -> Cloud {
 }
 
 impl Cloud {
-    fn build(&self, prim: Primitive) -> SplatGeometry {
+    fn build(&self, prim: Primitive) -> FilmGeometry {
         let r = if prim == Primitive::Disk {
             &self.disk_r
         } else {
             &self.sphere_r
         };
-        SplatGeometry::build(prim, &self.pos, &self.nrm, r, &self.thk).unwrap()
+        FilmGeometry::particles(prim, &self.pos, &self.nrm, r, &self.thk).unwrap()
     }
 }
 
@@ -73,7 +73,7 @@ fn camera_ray(x: usize, y: usize) -> Ray {
 }
 
 /// Renders one frame of hit thicknesses; returns the sum (so nothing is optimised away).
-fn frame_serial(g: &SplatGeometry) -> f32 {
+fn frame_serial(g: &FilmGeometry) -> f32 {
     let mut s = 0.0;
     for y in 0..H {
         for x in 0..W {
@@ -85,7 +85,7 @@ fn frame_serial(g: &SplatGeometry) -> f32 {
     s
 }
 
-fn frame_parallel(g: &SplatGeometry) -> f32 {
+fn frame_parallel(g: &FilmGeometry) -> f32 {
     (0..H)
         .into_par_iter()
         .map(|y| {

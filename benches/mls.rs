@@ -9,7 +9,7 @@
 //! `cargo bench --bench mls` (env: FILMSPLAT_BENCH_PARTICLES, FILMSPLAT_BENCH_SPP,
 //! FILMSPLAT_BENCH_SIZE=WxH, FILMSPLAT_BENCH_SPHERE = particles on the analytic sphere).
 
-use filmsplat::geometry::{FilmGeometry, MlsSurface, Primitive, Ray, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, FilmGeometry, MlsSurface, Primitive, Ray, SphereGeometry};
 use filmsplat::image::RgbImage;
 use filmsplat::image::metrics::delta_e_stats;
 use filmsplat::io::write_ply;
@@ -176,13 +176,13 @@ fn main() {
         let g: FilmGeometry = match prim {
             Primitive::Mls => MlsSurface::build(&pos, &pos, &r, &thk).unwrap().into(),
             Primitive::Disk => {
-                let mut g = SplatGeometry::build(prim, &pos, &pos, &r, &thk).unwrap();
+                let mut g = DiskGeometry::build(&pos, &pos, &r, &thk).unwrap();
                 g.set_curvature(&vec![1.0; m]).unwrap(); // exact curvature of the unit sphere
                 g.into()
             }
             Primitive::Sphere => {
                 let half: Vec<f32> = r.iter().map(|r| 0.5 * r).collect();
-                SplatGeometry::build(prim, &pos, &pos, &half, &thk)
+                SphereGeometry::build(&pos, &pos, &half, &thk)
                     .unwrap()
                     .into()
             }

@@ -6,7 +6,7 @@
 //! `cargo bench --bench pipeline` (env: FILMSPLAT_BENCH_PARTICLES, FILMSPLAT_BENCH_SPP,
 //! FILMSPLAT_BENCH_SIZE=WxH).
 
-use filmsplat::geometry::{Primitive, SplatGeometry};
+use filmsplat::geometry::{FilmGeometry, Primitive};
 use filmsplat::io::{ReadOptions, read_cloud, write_ply};
 use filmsplat::pointcloud::curvature::{curvature_from_table, gradient_from_table};
 use filmsplat::pointcloud::knn::KnnTable;
@@ -77,7 +77,7 @@ fn main() {
                 .collect(),
         };
         let t = Instant::now();
-        let geometry = SplatGeometry::build(
+        let geometry = FilmGeometry::particles(
             prim,
             &cloud.positions,
             cloud.normals.as_ref().unwrap(),
@@ -89,7 +89,7 @@ fn main() {
         // First-order splat detail (disks only): one kNN table, curvature and thickness gradient.
         let mut geometry = geometry;
         let t = Instant::now();
-        if prim == Primitive::Disk {
+        if let FilmGeometry::Disks(geometry) = &mut geometry {
             let normals = cloud.normals.as_ref().unwrap();
             let table = KnnTable::build(&cloud.positions, 12);
             geometry
@@ -119,7 +119,7 @@ fn main() {
             geometry.intersect(ray, 0.0, f32::INFINITY).is_some()
         });
         let scene = Scene {
-            geometry: geometry.into(),
+            geometry,
             camera,
             environment: Environment::Studio(Studio::default()),
             layer_skip: 0.5 * radii[0],

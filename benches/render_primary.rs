@@ -1,4 +1,4 @@
-//! Primary-ray throughput of [`SplatGeometry::intersect`] as the renderer uses it: a 1M-disk
+//! Primary-ray throughput of [`DiskGeometry::intersect`] as the renderer uses it: a 1M-disk
 //! sphere shell (Fibonacci lattice, radii 0.9–1.5× the spacing) seen by a pinhole camera at
 //! 1280×720 that the shell fills completely, traced in 16×16 tiles one ray at a time,
 //! single-threaded and with rayon. Also prints build time, bytes per particle and the
@@ -10,7 +10,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use filmsplat::geometry::{Primitive, Ray, SplatGeometry, SurfaceHit};
+use filmsplat::geometry::{DiskGeometry, Ray, SurfaceHit};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -23,7 +23,7 @@ const H: usize = 720;
 const TILE: usize = 16;
 
 /// A 1M-disk Fibonacci sphere shell with radii between 0.9 and 1.5 times the spacing.
-fn shell() -> SplatGeometry {
+fn shell() -> DiskGeometry {
     let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
     let spacing = (4.0 * std::f32::consts::PI / N as f32).sqrt();
     let pos: Vec<Vec3> = (0..N)
@@ -41,7 +41,7 @@ fn shell() -> SplatGeometry {
         })
         .collect();
     let thk: Vec<f32> = pos.iter().map(|p| 500.0 + 300.0 * p.z).collect();
-    SplatGeometry::build(Primitive::Disk, &pos, &pos, &radii, &thk).unwrap()
+    DiskGeometry::build(&pos, &pos, &radii, &thk).unwrap()
 }
 
 /// Pinhole camera 1.6 units from the centre with a 40° vertical field of view: every pixel
@@ -75,14 +75,14 @@ impl Camera {
     }
 }
 
-type Query = fn(&SplatGeometry, &Ray, f32, f32) -> Option<SurfaceHit>;
+type Query = fn(&DiskGeometry, &Ray, f32, f32) -> Option<SurfaceHit>;
 
 /// Traces one 16×16 tile; returns (sum of thicknesses, hits, total coverage).
-fn tile(g: &SplatGeometry, cam: &Camera, t: usize) -> (f32, u32, u32) {
-    tile_with(g, cam, t, SplatGeometry::intersect)
+fn tile(g: &DiskGeometry, cam: &Camera, t: usize) -> (f32, u32, u32) {
+    tile_with(g, cam, t, DiskGeometry::intersect)
 }
 
-fn tile_with(g: &SplatGeometry, cam: &Camera, t: usize, q: Query) -> (f32, u32, u32) {
+fn tile_with(g: &DiskGeometry, cam: &Camera, t: usize, q: Query) -> (f32, u32, u32) {
     let (tx, ty) = (t % W.div_ceil(TILE), t / W.div_ceil(TILE));
     let mut acc = (0.0, 0, 0);
     for y in ty * TILE..((ty + 1) * TILE).min(H) {
@@ -99,19 +99,19 @@ fn tile_with(g: &SplatGeometry, cam: &Camera, t: usize, q: Query) -> (f32, u32, 
 
 const TILES: usize = W.div_ceil(TILE) * H.div_ceil(TILE);
 
-fn frame_serial(g: &SplatGeometry, cam: &Camera) -> (f32, u32, u32) {
+fn frame_serial(g: &DiskGeometry, cam: &Camera) -> (f32, u32, u32) {
     (0..TILES)
         .map(|t| tile(g, cam, t))
         .fold((0.0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
 }
 
-fn frame_serial_with(g: &SplatGeometry, cam: &Camera, q: Query) -> (f32, u32, u32) {
+fn frame_serial_with(g: &DiskGeometry, cam: &Camera, q: Query) -> (f32, u32, u32) {
     (0..TILES)
         .map(|t| tile_with(g, cam, t, q))
         .fold((0.0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
 }
 
-fn frame_parallel(g: &SplatGeometry, cam: &Camera) -> (f32, u32, u32) {
+fn frame_parallel(g: &DiskGeometry, cam: &Camera) -> (f32, u32, u32) {
     (0..TILES)
         .into_par_iter()
         .map(|t| tile(g, cam, t))
@@ -134,8 +134,8 @@ fn benches(crit: &mut Criterion) {
 
     // Throughput per CPU-second of this thread (robust when other processes share the cores).
     for (name, f) in [
-        ("intersect", SplatGeometry::intersect as Query),
-        ("intersect_single", SplatGeometry::intersect_single),
+        ("intersect", DiskGeometry::intersect as Query),
+        ("intersect_single", DiskGeometry::intersect_single),
     ] {
         let c0 = thread_cpu_ns();
         black_box(frame_serial_with(&g, &cam, f));

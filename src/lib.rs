@@ -22,7 +22,8 @@
 //! | [`pipeline`] | scene description → particles → geometry → image files | all above |
 //! | [`cli`] | command-line front end | all |
 //!
-//! [`error`] and [`atomic`] (all-or-nothing file output) are shared utilities any stage may use.
+//! [`error`], [`atomic`] (all-or-nothing file output) and [`mix`] (the SplitMix64 mix) are shared
+//! utilities any stage may use.
 #![warn(missing_docs)]
 
 pub mod atomic;
@@ -33,6 +34,7 @@ pub mod figure;
 pub mod geometry;
 pub mod image;
 pub mod io;
+pub mod mix;
 pub mod optics;
 pub mod pipeline;
 pub mod pointcloud;

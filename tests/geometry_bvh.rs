@@ -1,9 +1,9 @@
 //! The BVH answers exactly what a brute-force loop over all primitives answers: closest hit (same
-//! `t`, same particle, ties to the lowest index), any-hit, and for disks the layer blending (same
+//! `t`, same particle, ties to the lowest index), and for disks the layer blending (same
 //! cluster: coverage, exit distance, thickness, normal, heaviest particle).
 
 use filmsplat::geometry::primitives::{intersect_disk, intersect_sphere};
-use filmsplat::geometry::{LayerBlend, Primitive, Ray, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, FilmGeometry, LayerBlend, Primitive, Ray, SphereGeometry};
 use glam::Vec3;
 
 mod geometry_support;
@@ -19,8 +19,8 @@ struct Scene {
 }
 
 impl Scene {
-    fn geometry(&self) -> SplatGeometry {
-        SplatGeometry::build(self.prim, &self.pos, &self.nrm, &self.rad, &self.thk).unwrap()
+    fn geometry(&self) -> FilmGeometry {
+        FilmGeometry::particles(self.prim, &self.pos, &self.nrm, &self.rad, &self.thk).unwrap()
     }
 
     /// Brute-force closest hit: (t, particle, squared distance to centre for disks).
@@ -190,12 +190,6 @@ fn bvh_matches_brute_force() {
                 }
                 (b, h) => panic!("{}: brute {b:?} vs bvh {h:?}", ctx()),
             }
-            assert_eq!(
-                g.intersect_any(&ray, t_min, t_max),
-                brute.is_some(),
-                "{}",
-                ctx()
-            );
 
             let hit = g.intersect(&ray, t_min, t_max);
             assert_eq!(hit.is_some(), brute.is_some(), "{}", ctx());
@@ -250,15 +244,13 @@ fn rays_parallel_to_coplanar_disks_miss_without_nan() {
         let d = Vec3::new(rng.range(-1., 1.), rng.range(-1., 1.), 0.0);
         let ray = Ray::new(Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.4), d);
         assert!(g.intersect(&ray, 0.0, f32::INFINITY).is_none());
-        assert!(!g.intersect_any(&ray, 0.0, f32::INFINITY));
     }
 }
 
 #[test]
 fn ray_from_inside_a_sphere_hits_its_exit() {
     let pos = [Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0)];
-    let g =
-        SplatGeometry::build(Primitive::Sphere, &pos, &[], &[2.0, 1.0], &[100.0, 200.0]).unwrap();
+    let g = SphereGeometry::build(&pos, &[], &[2.0, 1.0], &[100.0, 200.0]).unwrap();
     let mut rng = Rng(3);
     for _ in 0..200 {
         let o = rng.unit() * rng.range(0.0, 1.9);
@@ -274,10 +266,9 @@ fn ray_from_inside_a_sphere_hits_its_exit() {
 
 #[test]
 fn empty_and_invalid_input() {
-    let g = SplatGeometry::build(Primitive::Disk, &[], &[], &[], &[]).unwrap();
+    let g = DiskGeometry::build(&[], &[], &[], &[]).unwrap();
     let ray = Ray::new(Vec3::ZERO, Vec3::Z);
     assert!(g.is_empty() && g.intersect(&ray, 0.0, f32::INFINITY).is_none());
-    assert!(!g.intersect_any(&ray, 0.0, f32::INFINITY));
     assert!(g.bounds().is_empty());
 
     let p = vec![Vec3::ZERO; 4];
@@ -285,7 +276,7 @@ fn empty_and_invalid_input() {
     let r = vec![0.1; 4];
     let h = vec![300.0; 4];
     let err = |prim, p: &[Vec3], n: &[Vec3], r: &[f32], h: &[f32]| {
-        SplatGeometry::build(prim, p, n, r, h)
+        FilmGeometry::particles(prim, p, n, r, h)
             .err()
             .map(|e| e.to_string())
             .unwrap_or_default()
@@ -308,8 +299,8 @@ fn empty_and_invalid_input() {
         err(Primitive::Sphere, &p, &[], &r, &bad).contains("particle 0 has an invalid thickness")
     );
     // Spheres need no normals; a zero ray direction hits nothing.
-    let g = SplatGeometry::build(Primitive::Sphere, &p, &[], &r, &h).unwrap();
-    assert_eq!(g.primitive(), Primitive::Sphere);
+    let g = FilmGeometry::particles(Primitive::Sphere, &p, &[], &r, &h).unwrap();
+    assert_eq!(g.primitive(), Some(Primitive::Sphere));
     let zero = Ray {
         origin: Vec3::new(0.0, 0.0, -1.0),
         dir: Vec3::ZERO,

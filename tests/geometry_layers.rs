@@ -1,14 +1,14 @@
 //! Disk-layer blending: overlapping disks of one film layer form ONE crossing whose thickness is a
 //! smooth interpolation of the particles' thicknesses.
 
-use filmsplat::geometry::{Primitive, Ray, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, Ray};
 use glam::Vec3;
 
 mod geometry_support;
 use geometry_support::Rng;
 
 /// All crossings along a ray, continuing from just beyond each `t_exit`.
-fn crossings(g: &SplatGeometry, ray: &Ray) -> Vec<filmsplat::geometry::SurfaceHit> {
+fn crossings(g: &DiskGeometry, ray: &Ray) -> Vec<filmsplat::geometry::SurfaceHit> {
     let mut out = Vec::new();
     let mut t_min = 0.0;
     while let Some(h) = g.intersect(ray, t_min, f32::INFINITY) {
@@ -28,7 +28,7 @@ struct Plane {
     n: Vec3,
     u: Vec3,
     v: Vec3,
-    geometry: SplatGeometry,
+    geometry: DiskGeometry,
 }
 
 const SPACING: f32 = 0.1;
@@ -54,7 +54,7 @@ impl Plane {
             }
         }
         let rad = vec![RADIUS; pos.len()];
-        let geometry = SplatGeometry::build(Primitive::Disk, &pos, &nrm, &rad, &thk).unwrap();
+        let geometry = DiskGeometry::build(&pos, &nrm, &rad, &thk).unwrap();
         Plane {
             p0,
             n,
@@ -180,7 +180,7 @@ fn sphere_shell_of_disks_has_two_crossings_on_the_sphere() {
         .map(|&p| if rng.f() < 0.5 { p } else { -p })
         .collect();
     let thk: Vec<f32> = pos.iter().map(|p| 500.0 + 200.0 * p.z).collect();
-    let g = SplatGeometry::build(Primitive::Disk, &pos, &nrm, &vec![radius; n], &thk).unwrap();
+    let g = DiskGeometry::build(&pos, &nrm, &vec![radius; n], &thk).unwrap();
     // Tangent disks lie outside the sphere by at most sqrt(1 + r²) − 1 where they cover a ray
     // through the centre.
     let tolerance = (1.0 + radius * radius).sqrt() - 1.0 + 1e-4;

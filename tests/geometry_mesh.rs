@@ -70,8 +70,7 @@ fn closest_hits_match_brute_force_on_random_rays() {
                     + v * thickness[ic as usize] as f64;
                 assert!((h.thickness_nm as f64 - want).abs() < 1e-2);
                 assert!((h.position - ray.at(h.t)).length() < 1e-5);
-                assert!(g.intersect_any(&ray, 0.0, f32::INFINITY));
-                assert!(!g.intersect_any(&ray, 0.0, h.t * 0.999));
+                assert!(g.intersect(&ray, 0.0, h.t * 0.999).is_none());
                 hits += 1;
             }
             (b, h) => panic!("{ray:?}: brute force {b:?}, bvh {h:?}"),

@@ -2,7 +2,7 @@
 //! seen against a sky over a dark ground they show the sky and ground swapped, as a ball lens
 //! inverts the world behind it.
 
-use filmsplat::geometry::{Droplets, Primitive, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, Droplets};
 use filmsplat::render::{
     Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, Staging, render,
 };
@@ -11,9 +11,7 @@ use glam::Vec3;
 
 fn scene(environment: Environment) -> Scene {
     Scene {
-        geometry: SplatGeometry::build(Primitive::Disk, &[], &[], &[], &[])
-            .unwrap()
-            .into(),
+        geometry: DiskGeometry::build(&[], &[], &[], &[]).unwrap().into(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO, Vec3::Y, 30.0),
         environment,
         layer_skip: 1e-3,

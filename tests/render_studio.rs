@@ -1,9 +1,9 @@
 //! Studio rendering: area lights, props lit by next-event estimation, spectral transport.
 
-use filmsplat::geometry::{Primitive, Props, Shape, SplatGeometry};
+use filmsplat::geometry::{DiskGeometry, Shape};
 use filmsplat::render::{
-    AreaLight, Camera, Environment, FilmShader, LightShape, Material, RenderOutput, RenderSettings,
-    Scene, ShadingMode, Staging, render,
+    AreaLight, Camera, Environment, FilmShader, LightShape, Material, Prop, Props, RenderOutput,
+    RenderSettings, Scene, ShadingMode, Staging, render,
 };
 use filmsplat::spectrum::WavelengthStrategy;
 use glam::Vec3;
@@ -17,8 +17,8 @@ fn settings(w: usize, h: usize, spp: u32) -> RenderSettings {
     }
 }
 
-fn no_films() -> SplatGeometry {
-    SplatGeometry::build(Primitive::Disk, &[], &[], &[], &[]).unwrap()
+fn no_films() -> DiskGeometry {
+    DiskGeometry::build(&[], &[], &[], &[]).unwrap()
 }
 
 fn lut() -> FilmShader {
@@ -31,6 +31,14 @@ fn mean(out: &RenderOutput) -> Vec3 {
 
 /// A camera at height 2 looking straight down at the ground y = 0.
 fn ground_scene(env: Environment, albedo: f32, lights: Vec<AreaLight>) -> Scene {
+    let material = Material::Diffuse {
+        albedo: Vec3::splat(albedo),
+    };
+    ground_scene_with(env, material, lights)
+}
+
+/// [`ground_scene`] with a ground of any material.
+fn ground_scene_with(env: Environment, material: Material, lights: Vec<AreaLight>) -> Scene {
     Scene {
         geometry: no_films().into(),
         camera: Camera::look_at(Vec3::new(0.0, 2.0, 0.0), Vec3::ZERO, Vec3::Z, 30.0),
@@ -38,17 +46,17 @@ fn ground_scene(env: Environment, albedo: f32, lights: Vec<AreaLight>) -> Scene 
         layer_skip: 1e-3,
         epsilon: 1e-5,
         staging: Staging {
-            lights,
+            lights: lights.into_iter().map(Into::into).collect(),
             props: Props::new(
-                vec![Shape::Plane {
-                    point: Vec3::ZERO,
-                    normal: Vec3::Y,
+                vec![Prop {
+                    shape: Shape::Plane {
+                        point: Vec3::ZERO,
+                        normal: Vec3::Y,
+                    },
+                    material,
                 }],
                 1e-5,
             ),
-            materials: vec![Material::Diffuse {
-                albedo: Vec3::splat(albedo),
-            }],
             ..Staging::default()
         },
     }
@@ -67,9 +75,13 @@ fn an_area_light_seen_directly_has_its_radiance() {
         radiance,
         blackbody: None,
     };
-    let mut scene = ground_scene(Environment::Uniform(Vec3::splat(0.1)), 0.5, vec![rect]);
+    let mut scene = ground_scene(
+        Environment::Uniform(Vec3::splat(0.1)),
+        0.5,
+        vec![rect.clone()],
+    );
     scene.staging = Staging {
-        lights: vec![rect],
+        lights: vec![rect.into()],
         ..Staging::default()
     };
     scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 30.0);
@@ -120,11 +132,11 @@ fn light_sampling_and_material_sampling_agree_in_the_mean() {
         toward: Vec3::new(0.3, 0.4, 0.6),
         away: Vec3::ZERO,
     };
-    let mut scene = ground_scene(env, 0.7, vec![light]);
-    scene.staging.materials[0] = Material::Glossy {
+    let glossy = Material::Glossy {
         albedo: Vec3::splat(0.7),
         roughness: 0.5,
     };
+    let scene = ground_scene_with(env, glossy, vec![light]);
     let nee = render(&scene, &lut(), &settings(32, 24, 16)).unwrap();
     let bsdf = render(
         &scene,
@@ -150,14 +162,7 @@ fn light_sampling_and_material_sampling_agree_in_the_mean() {
 /// One big disk film of `thickness` nm, head-on, lit from the front only: the image is the
 /// film's reflectance colour.
 fn film_scene(thickness: f32) -> Scene {
-    let geometry = SplatGeometry::build(
-        Primitive::Disk,
-        &[Vec3::ZERO],
-        &[Vec3::Z],
-        &[10.0],
-        &[thickness],
-    )
-    .unwrap();
+    let geometry = DiskGeometry::build(&[Vec3::ZERO], &[Vec3::Z], &[10.0], &[thickness]).unwrap();
     Scene {
         geometry: geometry.into(),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 10.0),
@@ -217,7 +222,7 @@ fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
         layer_skip: 1e-3,
         epsilon: 1e-5,
         staging: Staging {
-            lights: vec![light(-0.4, 0.0, 0.03), light(0.8, -5.0, 0.06)],
+            lights: vec![light(-0.4, 0.0, 0.03).into(), light(0.8, -5.0, 0.06).into()],
             ..Staging::default()
         },
     };
@@ -271,7 +276,7 @@ fn a_black_body_light_has_the_same_colour_in_spectral_and_rgb() {
         };
         let mut scene = ground_scene(Environment::Uniform(Vec3::ZERO), 0.5, vec![]);
         scene.staging = Staging {
-            lights: vec![light],
+            lights: vec![light.into()],
             ..Staging::default()
         };
         scene.camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 30.0);

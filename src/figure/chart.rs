@@ -95,11 +95,29 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
         (100.0 * s) as usize,
     );
     let (pw, ph) = (w - left - right, h - top - bottom);
+    for (r, row) in chart_rows(p, pw, ph).into_iter().enumerate() {
+        for (c, v) in row.into_iter().enumerate() {
+            img.set(left + c, top + r, v);
+        }
+    }
+    let plot = Plot {
+        x0: left as f32,
+        y0: top as f32,
+        x1: (left + pw) as f32,
+        y1: (top + ph) as f32,
+        s,
+    };
+    draw_ticks(&mut img, p, &plot);
+    draw_labels(&mut img, p, &plot);
+    img
+}
 
-    // The plot: one row per pixel row, angle decreasing upward from max at the top.
+/// The plot's colours: one row per pixel row, angle decreasing upward from the largest at the
+/// top, thickness increasing to the right.
+fn chart_rows(p: &ChartParams, pw: usize, ph: usize) -> Vec<Vec<[f32; 3]>> {
     let grid: Vec<f32> = reference_grid_nm().iter().map(|&l| l as f32).collect();
     let weights = SpectralWeights::new(&grid);
-    let rows: Vec<Vec<[f32; 3]>> = (0..ph)
+    (0..ph)
         .into_par_iter()
         .map(|r| {
             let angle = p.max_angle_deg * (1.0 - (r as f32 + 0.5) / ph as f32);
@@ -116,31 +134,34 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
                 })
                 .collect()
         })
-        .collect();
-    for (r, row) in rows.into_iter().enumerate() {
-        for (c, v) in row.into_iter().enumerate() {
-            img.set(left + c, top + r, v);
-        }
-    }
+        .collect()
+}
 
-    // Frame, ticks, labels.
-    let (x0, y0, x1, y1) = (
-        left as f32,
-        top as f32,
-        (left + pw) as f32,
-        (top + ph) as f32,
-    );
+/// The plot's frame in pixels (`x0, y0` top left, `x1, y1` bottom right) and the type scale.
+struct Plot {
+    x0: f32,
+    y0: f32,
+    x1: f32,
+    y1: f32,
+    s: f32,
+}
+
+/// Frame, major and minor ticks and their values.
+fn draw_ticks(img: &mut RgbImage, p: &ChartParams, plot: &Plot) {
+    let Plot { x0, y0, x1, y1, s } = *plot;
+    let (pw, ph) = (x1 - x0, y1 - y0);
     let tick = 8.0 * s;
     let label = 20.0 * s;
     let x_step = nice_step(p.max_thickness_nm, 12.0);
     let mut v = 0.0;
     while v <= p.max_thickness_nm + 1e-3 {
-        let x = x0 + v / p.max_thickness_nm * pw as f32;
-        draw_line(&mut img, x, y1, x, y1 + tick, 1.5 * s, INK);
+        let x = x0 + v / p.max_thickness_nm * pw;
+        draw_line(img, x, y1, x, y1 + tick, 1.5 * s, INK);
+        let at = (x, y1 + tick + 4.0 * s);
         draw_text(
-            &mut img,
-            x,
-            y1 + tick + 4.0 * s,
+            img,
+            at.0,
+            at.1,
             &format!("{v}"),
             label,
             INK,
@@ -151,19 +172,20 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
     // Minor ticks.
     let mut v = 0.0;
     while v <= p.max_thickness_nm + 1e-3 {
-        let x = x0 + v / p.max_thickness_nm * pw as f32;
-        draw_line(&mut img, x, y1, x, y1 + 0.5 * tick, 1.0 * s, GRID);
+        let x = x0 + v / p.max_thickness_nm * pw;
+        draw_line(img, x, y1, x, y1 + 0.5 * tick, 1.0 * s, GRID);
         v += x_step / 5.0;
     }
     let y_step = nice_step(p.max_angle_deg, 9.0);
     let mut a = 0.0;
     while a <= p.max_angle_deg + 1e-3 {
-        let y = y1 - a / p.max_angle_deg * ph as f32;
-        draw_line(&mut img, x0 - tick, y, x0, y, 1.5 * s, INK);
+        let y = y1 - a / p.max_angle_deg * ph;
+        draw_line(img, x0 - tick, y, x0, y, 1.5 * s, INK);
+        let at = (x0 - tick - 6.0 * s, y);
         draw_text(
-            &mut img,
-            x0 - tick - 6.0 * s,
-            y,
+            img,
+            at.0,
+            at.1,
             &format!("{a}°"),
             label,
             INK,
@@ -177,22 +199,30 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
         (x0, y0, x0, y1),
         (x1, y0, x1, y1),
     ] {
-        draw_line(&mut img, xa, ya, xb, yb, 1.5 * s, INK);
+        draw_line(img, xa, ya, xb, yb, 1.5 * s, INK);
     }
+}
+
+/// Axis titles, title and subtitle.
+fn draw_labels(img: &mut RgbImage, p: &ChartParams, plot: &Plot) {
+    let Plot { x0, y0, x1, y1, s } = *plot;
+    let h = img.height as f32;
+    let axis = "Film thickness (nm)";
     draw_text(
-        &mut img,
+        img,
         0.5 * (x0 + x1),
-        h as f32 - 22.0 * s,
-        "Film thickness (nm)",
+        h - 22.0 * s,
+        axis,
         24.0 * s,
         INK,
         Anchor::BASELINE_CENTRE,
     );
+    let axis = "Angle of incidence (degrees)";
     draw_text_vertical(
-        &mut img,
+        img,
         30.0 * s,
         0.5 * (y0 + y1),
-        "Angle of incidence (degrees)",
+        axis,
         24.0 * s,
         INK,
         Anchor::CENTRE,
@@ -202,7 +232,7 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
         p.ior
     );
     draw_text(
-        &mut img,
+        img,
         x0,
         40.0 * s,
         &title,
@@ -212,7 +242,7 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
     );
     let sub = "Reflected colour; each angle exposed so a very thick film appears light grey";
     draw_text(
-        &mut img,
+        img,
         x0,
         70.0 * s,
         sub,
@@ -220,5 +250,4 @@ pub fn interference_chart(p: &ChartParams) -> RgbImage {
         [0.25; 3],
         Anchor::BASELINE_LEFT,
     );
-    img
 }

@@ -4,34 +4,30 @@
 //! in the same order (no fused multiply-add), so each lane's `t` and `d2` are bit-identical to
 //! the scalar test and hit/miss decisions agree with it.
 
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
-use super::Ray;
 use super::primitives::DISK_PARALLEL_COS;
-use super::splat::DiskPrim;
+use super::ray4::{Ray4, lane_mask};
+
+/// A disk in slot order (32 bytes). The array is followed by [`PAD`](super::ray4::PAD)
+/// [`PAD_DISK`]s.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+pub(super) struct DiskPrim {
+    pub center: Vec3,
+    pub radius: f32,
+    pub normal: Vec3,
+    pub thickness: f32,
+}
 
 /// Disks the slot array is padded with, so a packet starting at any slot can read four: zero
 /// normal (parallel to every ray, never hit).
 pub(super) const PAD_DISK: DiskPrim = DiskPrim {
-    center: glam::Vec3::ZERO,
+    center: Vec3::ZERO,
     radius: 0.0,
-    normal: glam::Vec3::ZERO,
+    normal: Vec3::ZERO,
     thickness: 0.0,
 };
-
-/// Number of [`PAD_DISK`]s after the last disk.
-pub(super) const PAD: usize = 3;
-
-/// A ray splatted into lanes, for the four-wide disk test here and the sphere test in
-/// `sphere4`.
-pub(super) struct Ray4 {
-    pub(super) ox: Vec4,
-    pub(super) oy: Vec4,
-    pub(super) oz: Vec4,
-    pub(super) dx: Vec4,
-    pub(super) dy: Vec4,
-    pub(super) dz: Vec4,
-}
 
 /// Hits of one packet: distances and squared distances to the centres per lane, and a bit mask
 /// (bit `i` for lane `i`) of the lanes that hit within the range.
@@ -42,20 +38,6 @@ pub(super) struct Hits4 {
 }
 
 impl Ray4 {
-    /// Splats `ray` into lanes.
-    #[inline(always)]
-    pub fn new(ray: &Ray) -> Ray4 {
-        let (o, d) = (ray.origin, ray.dir);
-        Ray4 {
-            ox: Vec4::splat(o.x),
-            oy: Vec4::splat(o.y),
-            oz: Vec4::splat(o.z),
-            dx: Vec4::splat(d.x),
-            dy: Vec4::splat(d.y),
-            dz: Vec4::splat(d.z),
-        }
-    }
-
     /// Tests the disks `disks[0..4]` against the ray for `t_min < t < t_max`; lanes at or beyond
     /// `lanes` are masked off. Cost: one 4-lane division and ~30 lane operations.
     #[inline(always)]
@@ -83,27 +65,17 @@ impl Ray4 {
         Hits4 {
             t,
             d2,
-            mask: ok.bitmask() & ((1u32 << lanes) - 1),
+            mask: ok.bitmask() & lane_mask(lanes),
         }
-    }
-}
-
-/// A xorshift generator of uniform values in [-1, 1] for the lane tests.
-#[cfg(test)]
-pub(super) fn test_rng(mut s: u32) -> impl FnMut() -> f32 {
-    move || {
-        s ^= s << 13;
-        s ^= s >> 17;
-        s ^= s << 5;
-        s as f32 / u32::MAX as f32 * 2.0 - 1.0
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Ray;
     use crate::geometry::primitives::intersect_disk;
-    use glam::Vec3;
+    use crate::geometry::ray4::{assert_lanes_match, test_packet, test_rng};
 
     /// Every lane agrees bit for bit with the scalar test, including near-parallel rays, rays
     /// in a disk's plane, masked-off lanes and padding disks.
@@ -112,16 +84,15 @@ mod tests {
         let mut rnd = test_rng(0x2545_f491);
         let mut hits = 0;
         for k in 0..4000 {
-            let mut disks = [PAD_DISK; 4];
-            for d in disks.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
+            let disks = test_packet(k, PAD_DISK, || {
                 let n = Vec3::new(rnd(), rnd(), rnd() + 1e-3).normalize();
-                *d = DiskPrim {
+                DiskPrim {
                     center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
                     radius: 0.05 + 0.3 * rnd().abs(),
                     normal: if k % 5 == 0 { Vec3::Z } else { n },
                     thickness: 0.0,
-                };
-            }
+                }
+            });
             let origin = Vec3::new(rnd(), rnd(), rnd() * 0.1);
             let dir = if k % 5 == 0 {
                 // Parallel, or nearly parallel, to the z-normal disks.
@@ -134,17 +105,16 @@ mod tests {
             let (t_min, t_max) = if k % 3 == 0 { (0.1, 0.6) } else { (0.0, 10.0) };
             let lanes = 1 + k % 4;
             let h = Ray4::new(&ray).test_disks(&disks, lanes, t_min, t_max);
-            for (i, d) in disks.iter().enumerate() {
-                let want = intersect_disk(&ray, d.center, d.normal, d.radius, t_min, t_max)
-                    .filter(|_| i < lanes);
-                let got = (h.mask & (1 << i) != 0).then(|| (h.t[i], h.d2[i]));
-                assert_eq!(
-                    got.map(|(t, d2)| (t.to_bits(), d2.to_bits())),
-                    want.map(|(t, d2)| (t.to_bits(), d2.to_bits())),
-                    "case {k} lane {i}"
-                );
-                hits += got.is_some() as usize;
-            }
+            hits += assert_lanes_match(
+                k,
+                lanes,
+                |i| (h.mask & (1 << i) != 0).then(|| (h.t[i].to_bits(), h.d2[i].to_bits())),
+                |i| {
+                    let d = &disks[i];
+                    intersect_disk(&ray, d.center, d.normal, d.radius, t_min, t_max)
+                        .map(|(t, d2)| (t.to_bits(), d2.to_bits()))
+                },
+            );
         }
         assert!(hits > 1000, "only {hits} hits");
     }

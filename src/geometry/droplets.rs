@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use super::{Aabb, Primitive, Ray, SplatGeometry};
+use super::{Aabb, Ray, SphereGeometry};
 use crate::error::Result;
 
 /// Index of refraction of water, the droplets' default.
@@ -15,7 +15,7 @@ pub const WATER_IOR: f32 = 1.33;
 /// pays one branch a ray).
 #[derive(Clone, Debug)]
 pub struct Droplets {
-    spheres: Option<SplatGeometry>,
+    spheres: Option<SphereGeometry>,
     centres: Vec<Vec3>,
     radii: Vec<f32>,
     /// Index of refraction inside the spheres (default [`WATER_IOR`]).
@@ -46,16 +46,16 @@ pub struct DropletHit {
 
 impl Droplets {
     /// Builds the droplets from centres and radii (scene units; finite, radii > 0).
-    /// Cost: O(n log n), as [`SplatGeometry::build`].
+    /// Cost: O(n log n), as [`SphereGeometry::build`].
     ///
     /// # Errors
-    /// As [`SplatGeometry::build`]: lengths that disagree, non-finite centres, bad radii.
+    /// As [`SphereGeometry::build`]: lengths that disagree, non-finite centres, bad radii.
     pub fn build(centres: &[Vec3], radii: &[f32]) -> Result<Self> {
         if centres.is_empty() {
             return Ok(Droplets::default());
         }
         let zeros = vec![0.0; centres.len()];
-        let spheres = SplatGeometry::build(Primitive::Sphere, centres, &[], radii, &zeros)?;
+        let spheres = SphereGeometry::build(centres, &[], radii, &zeros)?;
         Ok(Droplets {
             spheres: Some(spheres),
             centres: centres.to_vec(),
@@ -78,12 +78,15 @@ impl Droplets {
     pub fn bounds(&self) -> Aabb {
         self.spheres
             .as_ref()
-            .map_or(Aabb::EMPTY, SplatGeometry::bounds)
+            .map_or(Aabb::EMPTY, SphereGeometry::bounds)
     }
 
     /// Heap bytes held.
     pub fn memory_bytes(&self) -> usize {
-        self.spheres.as_ref().map_or(0, SplatGeometry::memory_bytes) + self.centres.len() * 16
+        self.spheres
+            .as_ref()
+            .map_or(0, SphereGeometry::memory_bytes)
+            + self.centres.len() * 16
     }
 
     /// The nearest droplet the ray enters with `t_min < t < t_max`.

@@ -7,27 +7,36 @@
 //! * [`Ray`], [`Aabb`]: the basic types (the slab test lives on [`Aabb`]).
 //! * [`primitives`]: ray–disk and ray–sphere tests and primitive bounds.
 //! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
-//! * [`SplatGeometry`]: the particle scene the renderer queries for [`SurfaceHit`]s.
-//! * [`MeshGeometry`]: a triangle mesh drawn as a film (for comparisons with meshed renders).
-//! * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced directly.
-//! * [`FilmGeometry`]: the closed set of film geometries the renderer goes through.
+//! * [`FilmGeometry`]: the closed set of film geometries the renderer queries for
+//!   [`SurfaceHit`]s, one variant each:
+//!   * [`DiskGeometry`]: particles as blended disks (four-wide leaf tests, `disk4`);
+//!   * [`SphereGeometry`]: particles as spheres (`sphere4`);
+//!   * [`MeshGeometry`]: a triangle mesh drawn as a film (for comparisons with meshed renders);
+//!   * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced
+//!     directly.
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
-//! * [`props`]: opaque staging shapes (plane, sphere, box, cylinder, torus).
+//! * [`shape`]: the shape library of props and area lights (plane, rectangle, disk, sphere, box,
+//!   cylinder, torus, mesh): intersection and light sampling.
 
 mod aabb;
 mod blend;
 mod bvh;
 mod bvh_build;
 mod disk4;
+mod disk_query;
+mod disks;
 mod droplets;
 mod film;
+mod hit;
 pub mod mesh;
 mod mls;
+mod particles;
 pub mod primitives;
-pub mod props;
-mod query;
+mod ray4;
+pub mod shape;
 mod sphere4;
-mod splat;
+mod spheres;
+mod tree;
 mod wide;
 
 use std::fmt;
@@ -37,13 +46,16 @@ use glam::Vec3;
 
 pub use aabb::Aabb;
 pub use blend::LayerBlend;
-pub use bvh::{Bvh, BvhNode, BvhParams};
+pub use bvh::{BvhNode, BvhParams};
+pub use disks::DiskGeometry;
 pub use droplets::{DropletHit, Droplets, WATER_IOR};
 pub use film::FilmGeometry;
+pub use hit::SurfaceHit;
 pub use mesh::{MeshGeometry, MeshSides};
 pub use mls::{MlsParams, MlsSurface};
-pub use props::{Mesh, PropHit, Props, Shape};
-pub use splat::{SplatGeometry, SurfaceHit};
+pub use shape::{Mesh, Shape, ShapeHit, ShapeSample, frame};
+pub use spheres::SphereGeometry;
+pub use tree::Bvh;
 
 /// A ray `origin + t * dir`, `t >= 0`. `dir` must be unit length (queries return `None`/`false`
 /// for a zero or non-finite direction).

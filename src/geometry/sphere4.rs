@@ -5,15 +5,24 @@
 //! multiply-add), so each lane's `t` is bit-identical to the scalar test and hit/miss decisions
 //! agree with it.
 
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
-use super::disk4::Ray4;
-use super::splat::SpherePrim;
+use super::ray4::{Ray4, lane_mask};
 
-/// Spheres the slot array is padded with (`disk4::PAD` of them), so a packet starting at any
-/// slot can read four: a NaN centre, which no ray hits.
+/// A sphere in slot order (20 bytes). The array is followed by [`PAD`](super::ray4::PAD)
+/// [`PAD_SPHERE`]s.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+pub(super) struct SpherePrim {
+    pub center: Vec3,
+    pub radius: f32,
+    pub thickness: f32,
+}
+
+/// Spheres the slot array is padded with, so a packet starting at any slot can read four: a
+/// NaN centre, which no ray hits.
 pub(super) const PAD_SPHERE: SpherePrim = SpherePrim {
-    center: glam::Vec3::NAN,
+    center: Vec3::NAN,
     radius: 0.0,
     thickness: 0.0,
 };
@@ -56,7 +65,7 @@ impl Ray4 {
         let in0 = t0.cmpgt(lo) & t0.cmplt(hi);
         let in1 = t1.cmpgt(lo) & t1.cmplt(hi);
         let t = Vec4::select(in0, t0, t1);
-        let mask = (real & (in0 | in1)).bitmask() & ((1u32 << lanes) - 1);
+        let mask = (real & (in0 | in1)).bitmask() & lane_mask(lanes);
         (t, mask)
     }
 }
@@ -65,9 +74,8 @@ impl Ray4 {
 mod tests {
     use super::*;
     use crate::geometry::Ray;
-    use crate::geometry::disk4::test_rng;
     use crate::geometry::primitives::intersect_sphere;
-    use glam::Vec3;
+    use crate::geometry::ray4::{assert_lanes_match, test_packet, test_rng};
 
     /// Every lane agrees bit for bit with the scalar test: rays from outside, from inside, on
     /// the surface, tangent and missing, masked-off lanes and padding spheres.
@@ -76,14 +84,11 @@ mod tests {
         let mut rnd = test_rng(0x9e37_79b9);
         let mut hits = 0;
         for k in 0..4000 {
-            let mut spheres = [PAD_SPHERE; 4];
-            for p in spheres.iter_mut().take(if k % 7 == 0 { 2 } else { 4 }) {
-                *p = SpherePrim {
-                    center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
-                    radius: 0.05 + 0.3 * rnd().abs(),
-                    thickness: 0.0,
-                };
-            }
+            let spheres = test_packet(k, PAD_SPHERE, || SpherePrim {
+                center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
+                radius: 0.05 + 0.3 * rnd().abs(),
+                thickness: 0.0,
+            });
             let c = spheres[k % 2].center;
             let r = spheres[k % 2].radius;
             let (origin, dir) = match k % 4 {
@@ -104,17 +109,15 @@ mod tests {
             let (t_min, t_max) = if k % 3 == 0 { (0.1, 2.0) } else { (0.0, 10.0) };
             let lanes = 1 + k % 4;
             let (t, mask) = Ray4::new(&ray).test_spheres(&spheres, lanes, t_min, t_max);
-            for (i, p) in spheres.iter().enumerate() {
-                let want =
-                    intersect_sphere(&ray, p.center, p.radius, t_min, t_max).filter(|_| i < lanes);
-                let got = (mask & (1 << i) != 0).then(|| t[i]);
-                assert_eq!(
-                    got.map(f32::to_bits),
-                    want.map(f32::to_bits),
-                    "case {k} lane {i}"
-                );
-                hits += got.is_some() as usize;
-            }
+            hits += assert_lanes_match(
+                k,
+                lanes,
+                |i| (mask & (1 << i) != 0).then(|| t[i].to_bits()),
+                |i| {
+                    let p = &spheres[i];
+                    intersect_sphere(&ray, p.center, p.radius, t_min, t_max).map(f32::to_bits)
+                },
+            );
         }
         assert!(hits > 2000, "only {hits} hits");
     }

@@ -265,9 +265,6 @@ pub fn draw_text(
     colour: [f32; 3],
     anchor: Anchor,
 ) {
-    if !(size_px > 0.0 && size_px.is_finite() && x.is_finite() && y.is_finite()) {
-        return;
-    }
     stamp(img, (x, y), text, size_px, colour, anchor, |cu, cv| {
         (cu, cv)
     });
@@ -285,9 +282,6 @@ pub fn draw_text_vertical(
     colour: [f32; 3],
     anchor: Anchor,
 ) {
-    if !(size_px > 0.0 && size_px.is_finite() && x.is_finite() && y.is_finite()) {
-        return;
-    }
     // Text frame (u along the text, v "down" the glyphs) maps to the image as u = -y, v = x;
     // frame cell (cu, cv) is image pixel (cv, -cu - 1).
     stamp(img, (-y, x), text, size_px, colour, anchor, |cu, cv| {
@@ -306,6 +300,9 @@ fn stamp(
     anchor: Anchor,
     to_image: impl Fn(i64, i64) -> (i64, i64),
 ) {
+    if !(size_px > 0.0 && size_px.is_finite() && at.0.is_finite() && at.1.is_finite()) {
+        return;
+    }
     let f = font();
     let (u, v) = origin(f, text, size_px, at.0, at.1, anchor);
     let Some(m) = render_mask(f, text, size_px, u, v) else {

@@ -5,7 +5,7 @@
 use super::config::{AttributeView, EnvironmentConfig, FilmConfig};
 use super::framing::Framing;
 use crate::geometry::{
-    Aabb, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SplatGeometry,
+    Aabb, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry,
 };
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
@@ -92,22 +92,24 @@ pub(super) fn film_geometry(
     let normals = cloud.normals.as_deref().unwrap_or_default();
     let thickness = cloud.thickness_nm.as_deref().unwrap_or_default();
     if cloud.is_empty() {
-        return Ok(SplatGeometry::build(Primitive::Sphere, &[], &[], &[], &[])?.into());
+        return Ok(SphereGeometry::build(&[], &[], &[], &[])?.into());
     }
     if film.primitive == Primitive::Mls {
         return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
     }
     let mut splats =
-        SplatGeometry::build(film.primitive, &cloud.positions, normals, radii, thickness)?;
-    if film.first_order_detail {
-        let (curvature, gradient) = detail(&cloud.positions, normals, thickness, neighbours);
-        splats.set_curvature(&curvature)?;
-        splats.set_thickness_gradient(&gradient)?;
+        FilmGeometry::particles(film.primitive, &cloud.positions, normals, radii, thickness)?;
+    if let FilmGeometry::Disks(disks) = &mut splats {
+        if film.first_order_detail {
+            let (curvature, gradient) = detail(&cloud.positions, normals, thickness, neighbours);
+            disks.set_curvature(&curvature)?;
+            disks.set_thickness_gradient(&gradient)?;
+        }
+        if !film.blend {
+            disks.set_layer_blend(LayerBlend::NONE);
+        }
     }
-    if !film.blend {
-        splats.set_layer_blend(LayerBlend::NONE);
-    }
-    Ok(splats.into())
+    Ok(splats)
 }
 
 /// First-order splats: normals tilt with the curvature, thickness follows its gradient. Reuses

@@ -19,7 +19,7 @@ pub const CLOUD_BYTES_PER_PARTICLE: u64 = 32;
 /// Neighbour search: the k-d tree (~24 B) plus the 12-nearest table (index u32 + distance f32
 /// per neighbour), shared by the normal/radius estimate and the curvature detail.
 pub const NEIGHBOUR_BYTES_PER_PARTICLE: u64 = 24 + 12 * 8;
-/// Geometry: disk and BVH (~62 B, [`crate::geometry::SplatGeometry::memory_bytes`]), first-order
+/// Geometry: disk and BVH (~62 B, [`crate::geometry::DiskGeometry::memory_bytes`]), first-order
 /// detail (curvature + thickness gradient, 16 B), scaled and sorted radii and the curvature and
 /// gradient arrays before they are moved in (~28 B).
 pub const GEOMETRY_BYTES_PER_PARTICLE: u64 = 62 + 16 + 28;

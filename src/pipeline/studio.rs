@@ -1,9 +1,9 @@
 //! Scene-file lights and props → the renderer's [`Staging`]. Errors name the entry, its
 //! line and the key.
 
-use crate::geometry::{Mesh, Props, Shape};
+use crate::geometry::{Mesh, Shape};
 use crate::io::{ReadOptions, read_mesh};
-use crate::render::{AreaLight, LightShape, Material, Staging};
+use crate::render::{AreaLight, LightShape, Material, Prop, Props, Staging};
 use crate::scene::{LightDesc, PropDesc, SceneDesc};
 use crate::spectrum::Blackbody;
 use crate::{Error, Result};
@@ -39,19 +39,17 @@ pub fn staging(desc: &SceneDesc, base: &Path, centre: Vec3, eps: f32) -> Result<
         .light
         .iter()
         .enumerate()
-        .map(|(i, l)| light(i, l, centre))
+        .map(|(i, l)| light(i, l, centre).map(Into::into))
         .collect::<Result<Vec<_>>>()?;
-    let mut shapes = Vec::with_capacity(desc.prop.len());
-    let mut materials = Vec::with_capacity(desc.prop.len());
-    for (i, p) in desc.prop.iter().enumerate() {
-        let (s, m) = prop(i, p, base)?;
-        shapes.push(s);
-        materials.push(m);
-    }
+    let props = desc
+        .prop
+        .iter()
+        .enumerate()
+        .map(|(i, p)| prop(i, p, base).map(|(shape, material)| Prop { shape, material }))
+        .collect::<Result<Vec<_>>>()?;
     Ok(Staging {
         lights,
-        props: Props::new(shapes, eps),
-        materials,
+        props: Props::new(props, eps),
         droplets: Default::default(),
     })
 }

@@ -206,20 +206,26 @@ mod tests {
         assert!(k.iter().all(|v| (v + 0.5).abs() < 0.02));
     }
 
+    /// 900 points of the plane y = 0: a 30 × 30 grid of spacing 0.1, rows shifted in z by
+    /// `jitter` × (index mod 7) so the neighbourhoods are not all alike.
+    fn plane_grid(jitter: f32) -> Vec<Vec3> {
+        (0..900)
+            .map(|i| {
+                Vec3::new(
+                    (i % 30) as f32 * 0.1,
+                    0.0,
+                    (i / 30) as f32 * 0.1 + jitter * (i % 7) as f32,
+                )
+            })
+            .collect()
+    }
+
     #[test]
     fn gradients_of_linear_fields_are_exact() {
         let p = fibonacci(3000, 1.0);
         let n: Vec<Vec3> = p.iter().map(|q| q.normalize()).collect();
         // On a plane: a = 3x − 2z exactly.
-        let plane: Vec<Vec3> = (0..900)
-            .map(|i| {
-                Vec3::new(
-                    (i % 30) as f32 * 0.1,
-                    0.0,
-                    (i / 30) as f32 * 0.1 + 0.013 * (i % 7) as f32,
-                )
-            })
-            .collect();
+        let plane = plane_grid(0.013);
         let a: Vec<f32> = plane.iter().map(|q| 3.0 * q.x - 2.0 * q.z).collect();
         let table = KnnTable::build(&plane, 8);
         for g in gradient_from_table(&plane, &vec![Vec3::Y; 900], &a, &table) {
@@ -237,15 +243,7 @@ mod tests {
 
     #[test]
     fn a_plane_is_flat() {
-        let p: Vec<Vec3> = (0..900)
-            .map(|i| {
-                Vec3::new(
-                    (i % 30) as f32 * 0.1,
-                    0.0,
-                    (i / 30) as f32 * 0.1 + 0.01 * (i % 7) as f32,
-                )
-            })
-            .collect();
+        let p = plane_grid(0.01);
         let k = estimate_curvature(&p, &vec![Vec3::Y; p.len()], 8);
         assert!(k.iter().all(|v| v.abs() < 1e-5));
     }

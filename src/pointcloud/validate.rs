@@ -185,31 +185,25 @@ impl std::fmt::Display for RepairReport {
         if self.is_clean() {
             return write!(f, "repair: nothing to repair ({} particles)", self.before);
         }
-        let mut parts = Vec::new();
-        if self.dropped_position > 0 {
-            parts.push(format!(
-                "dropped {} with non-finite positions (or beyond ±1e15)",
-                self.dropped_position
-            ));
-        }
-        if self.dropped_thickness > 0 {
-            parts.push(format!(
-                "dropped {} with bad thickness",
-                self.dropped_thickness
-            ));
-        }
-        if self.normals_reset > 0 {
-            parts.push(format!(
-                "{} unusable normals marked for re-estimation",
-                self.normals_reset
-            ));
-        }
-        if self.radii_reset > 0 {
-            parts.push(format!(
-                "{} bad radii marked for re-estimation",
-                self.radii_reset
-            ));
-        }
+        let counts = [
+            (
+                self.dropped_position,
+                "dropped ",
+                " with non-finite positions (or beyond ±1e15)",
+            ),
+            (self.dropped_thickness, "dropped ", " with bad thickness"),
+            (
+                self.normals_reset,
+                "",
+                " unusable normals marked for re-estimation",
+            ),
+            (self.radii_reset, "", " bad radii marked for re-estimation"),
+        ];
+        let mut parts: Vec<String> = counts
+            .iter()
+            .filter(|(n, _, _)| *n > 0)
+            .map(|(n, before, after)| format!("{before}{n}{after}"))
+            .collect();
         for d in &self.discarded {
             parts.push(format!("discarded attribute '{d}' (wrong length)"));
         }

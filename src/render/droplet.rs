@@ -7,7 +7,7 @@
 //! neglected (one index for every wavelength).
 
 use super::radiance::{Lanes, Radiance};
-use super::transport::{PathState, Tracer};
+use super::transport::{Branch, PathState, Tracer};
 use crate::geometry::{DropletHit, Ray};
 use crate::optics::interface::{dielectric_reflectance, refracted_cos};
 use glam::Vec3;
@@ -55,7 +55,7 @@ impl Tracer<'_> {
             origin: p + n * eps,
             dir: reflect(ray.dir, n),
         };
-        let mut sum = self.trace(l, &reflected, 0.0, depth + 1, weight * f, st) * f;
+        let mut sum = self.trace(l, Branch::new(&reflected, depth + 1, weight * f), st) * f;
         let Some(mut dir) = refract(ray.dir, n, n1, n2).filter(|_| outside) else {
             return sum;
         };
@@ -78,7 +78,7 @@ impl Tracer<'_> {
                     dir: out_dir,
                 };
                 let w = weight * leave;
-                sum = sum + self.trace(l, &out, 0.0, depth + 2 + k, w, st) * leave;
+                sum = sum + self.trace(l, Branch::new(&out, depth + 2 + k, w), st) * leave;
             }
             inner *= f_in;
             if inner * weight.max_channel() < self.settings.min_weight

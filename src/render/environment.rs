@@ -78,6 +78,17 @@ pub struct SoftBox {
 }
 
 impl SoftBox {
+    /// A soft box toward `dir` (any non-zero length; normalised here) with half-size, rim
+    /// width (tangent units) and centre radiance.
+    pub fn new(dir: Vec3, half_size: (f32, f32), softness: f32, radiance: Vec3) -> Self {
+        SoftBox {
+            dir: dir.normalize(),
+            half_size,
+            softness,
+            radiance,
+        }
+    }
+
     fn radiance(&self, dir: Vec3) -> Vec3 {
         let c = dir.dot(self.dir);
         if c <= 0.0 {
@@ -116,33 +127,33 @@ impl Default for Studio {
             // Light tent: a very large, soft, dim panel behind and above the default camera
             // (which looks from +z). A film reflects it over most of its face, so the
             // interference colours show everywhere, as in bubble photographs.
-            SoftBox {
-                dir: Vec3::new(0.25, 0.35, 1.0).normalize(),
-                half_size: (2.2, 1.6),
-                softness: 0.9,
-                radiance: Vec3::splat(1.4),
-            },
+            SoftBox::new(
+                Vec3::new(0.25, 0.35, 1.0),
+                (2.2, 1.6),
+                0.9,
+                Vec3::splat(1.4),
+            ),
             // Key: bright, upper left: a crisp highlight.
-            SoftBox {
-                dir: Vec3::new(-0.55, 0.55, 0.62).normalize(),
-                half_size: (0.30, 0.40),
-                softness: 0.06,
-                radiance: Vec3::splat(6.0),
-            },
+            SoftBox::new(
+                Vec3::new(-0.55, 0.55, 0.62),
+                (0.30, 0.40),
+                0.06,
+                Vec3::splat(6.0),
+            ),
             // Fill: right, lower and warmer.
-            SoftBox {
-                dir: Vec3::new(0.85, 0.05, 0.50).normalize(),
-                half_size: (0.22, 0.45),
-                softness: 0.06,
-                radiance: Vec3::new(3.2, 3.0, 2.7),
-            },
+            SoftBox::new(
+                Vec3::new(0.85, 0.05, 0.50),
+                (0.22, 0.45),
+                0.06,
+                Vec3::new(3.2, 3.0, 2.7),
+            ),
             // Top strip: a line of light along the bubble's crown.
-            SoftBox {
-                dir: Vec3::new(0.0, 1.0, 0.15).normalize(),
-                half_size: (0.70, 0.18),
-                softness: 0.05,
-                radiance: Vec3::splat(4.0),
-            },
+            SoftBox::new(
+                Vec3::new(0.0, 1.0, 0.15),
+                (0.70, 0.18),
+                0.05,
+                Vec3::splat(4.0),
+            ),
         ];
         Studio {
             backdrop: [

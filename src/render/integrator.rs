@@ -7,114 +7,21 @@
 //! `max_depth`; such a branch then returns the environment seen along it (it "escapes"). This
 //! keeps a white furnace exactly white and the image free of path-tracing noise.
 //!
-//! The studio ([`Staging`]) adds area lights, which rays meet before the environment, and
+//! The studio ([`Staging`](super::Staging)) adds area lights, which rays meet before the environment, and
 //! opaque props, shaded by light sampling (see [`super::transport`]). The transport is written
 //! once, generic over RGB and spectral radiance; `--shading spectral` runs the spectral
 //! instance, the other modes the RGB one.
 
-use super::camera::Camera;
-use super::environment::Environment;
-use super::lights::AreaLight;
-use super::material::Material;
 use super::radiance::{Lanes, Radiance, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading, ShadingMode};
-use super::transport::{PathState, Tracer};
-use crate::geometry::{FilmGeometry, Props, SurfaceHit};
+use super::transport::{Branch, PathState, Tracer};
+use super::world::{RenderSettings, World};
+use crate::geometry::SurfaceHit;
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
-/// What to render: geometry, camera, light.
-#[derive(Debug)]
-pub struct Scene {
-    /// The films.
-    pub geometry: FilmGeometry,
-    /// The camera.
-    pub camera: Camera,
-    /// The lighting.
-    pub environment: Environment,
-    /// Distance (scene units) a reflected ray skips before it may hit film again: about half a
-    /// splat radius for disks, so the layer it left is not hit twice.
-    pub layer_skip: f32,
-    /// Small distance (scene units) against self-intersection, ~1e-5 of the scene's size.
-    pub epsilon: f32,
-    /// Area lights and props (empty by default: then rays pay nothing for them).
-    pub staging: Staging,
-}
-
-/// The studio around the films: area lights and props.
-#[derive(Debug, Clone, Default)]
-pub struct Staging {
-    /// Area lights.
-    pub lights: Vec<AreaLight>,
-    /// Opaque props.
-    pub props: Props,
-    /// One material per prop, in the props' order.
-    pub materials: Vec<Material>,
-    /// Water droplets (the bulk fluid a rupturing film sheds): clear refracting spheres.
-    pub droplets: crate::geometry::Droplets,
-}
-
-/// How to render it.
-#[derive(Debug, Clone)]
-pub struct RenderSettings {
-    /// Image width, pixels.
-    pub width: usize,
-    /// Image height, pixels.
-    pub height: usize,
-    /// Camera samples per pixel.
-    pub spp: u32,
-    /// Most film crossings along one path.
-    pub max_depth: u32,
-    /// Branches whose RGB weight falls below this escape to the environment.
-    pub min_weight: f32,
-    /// Russian roulette below this branch weight (0 = off, the deterministic ray tree): a
-    /// branch of weight w < `roulette` is followed with probability w / `roulette`, otherwise
-    /// it escapes to the environment. Unbiased (the escape view is a control variate); trades
-    /// rays for noise in dim branches, which pays where crossings are many (spheres).
-    pub roulette: f32,
-    /// Random seed: the same seed gives the same image.
-    pub seed: u64,
-    /// Draw a progress bar on stderr (only when it is a terminal).
-    pub progress: bool,
-    /// Light samples (each: one per light, environment and material strategy) per prop hit.
-    pub light_samples: u32,
-    /// Indirect bounces between props (0: direct light only).
-    pub prop_bounces: u32,
-    /// Sample lights and environment at props (next-event estimation with MIS); `false`
-    /// samples the material only (for checking: same mean, more noise).
-    pub next_event: bool,
-    /// Set it from another thread to stop the render: it is checked before each 16×16 tile,
-    /// and the render then returns [`Error::Cancelled`] (so a stop costs at most one tile per
-    /// core).
-    pub cancel: Option<Arc<AtomicBool>>,
-    /// Counts the finished 16×16 tiles (of `⌈width/16⌉·⌈height/16⌉`), for a caller's own
-    /// progress display.
-    pub tiles_done: Option<Arc<AtomicUsize>>,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            width: 960,
-            height: 540,
-            spp: 4,
-            max_depth: 12,
-            min_weight: 1e-3,
-            roulette: 0.0,
-            seed: 0,
-            progress: false,
-            light_samples: 1,
-            prop_bounces: 1,
-            next_event: true,
-            cancel: None,
-            tiles_done: None,
-        }
-    }
-}
+use std::sync::atomic::Ordering;
 
 /// The rendered buffers, row-major, top row first.
 #[derive(Debug, Clone)]
@@ -143,7 +50,7 @@ const TILE: usize = 16;
 
 /// Renders `scene` with `shader` and `settings`. Deterministic for a given seed.
 pub fn render(
-    scene: &Scene,
+    scene: &World,
     shader: &FilmShader,
     settings: &RenderSettings,
 ) -> Result<RenderOutput> {
@@ -156,61 +63,80 @@ pub fn render(
     if settings.spp == 0 {
         return Err(Error::invalid("samples per pixel must be at least 1"));
     }
-    if scene.staging.materials.len() != scene.staging.props.len() {
-        return Err(Error::invalid(format!(
-            "{} props but {} materials",
-            scene.staging.props.len(),
-            scene.staging.materials.len()
-        )));
-    }
-    let aspect = w as f32 / h as f32;
     let tracer = Tracer::new(scene, settings);
     let tiles_x = w.div_ceil(TILE);
     let tiles: Vec<(usize, usize)> = (0..h.div_ceil(TILE))
-        .flat_map(|ty| (0..tiles_x).map(move |tx| (tx, ty)))
+        .flat_map(|ty| (0..tiles_x).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
     let bar = progress_bar(settings.progress, tiles.len() as u64);
-    let results: Vec<(usize, usize, Vec<Pixel>, u64)> = tiles
+    let results: Vec<Tile> = tiles
         .par_iter()
-        .map(|&(tx, ty)| {
-            let (x0, y0) = (tx * TILE, ty * TILE);
+        .map(|&(x0, y0)| {
             if cancelled(settings) {
-                return (x0, y0, Vec::new(), 0);
+                return Tile::empty(x0, y0);
             }
-            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-            let mut shading = SampleShading::default();
-            let mut rays = 0;
-            let mut u = Vec::with_capacity(shader.randoms_per_sample());
-            let mut pixels = Vec::with_capacity((x1 - x0) * (y1 - y0));
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    let mut st = PathState {
-                        rng: Pcg32::new(settings.seed, mix64((y * w + x) as u64)),
-                        rays: 0,
-                    };
-                    let px = Px { x, y, aspect };
-                    pixels.push(render_pixel(
-                        &tracer,
-                        shader,
-                        px,
-                        &mut st,
-                        &mut shading,
-                        &mut u,
-                    ));
-                    rays += st.rays;
-                }
-            }
+            let tile = render_tile(&tracer, shader, x0, y0);
             bar.inc(1);
             if let Some(done) = &settings.tiles_done {
                 done.fetch_add(1, Ordering::Relaxed);
             }
-            (x0, y0, pixels, rays)
+            tile
         })
         .collect();
     bar.finish_and_clear();
     if cancelled(settings) {
         return Err(Error::Cancelled);
     }
+    Ok(assemble(w, h, results))
+}
+
+/// The pixels of one tile, row by row, and the rays they traced.
+struct Tile {
+    x0: usize,
+    y0: usize,
+    pixels: Vec<Pixel>,
+    rays: u64,
+}
+
+impl Tile {
+    fn empty(x0: usize, y0: usize) -> Tile {
+        Tile {
+            x0,
+            y0,
+            pixels: Vec::new(),
+            rays: 0,
+        }
+    }
+}
+
+/// Renders the tile with top-left pixel `(x0, y0)`; each pixel's random stream is seeded by
+/// its index, so the image does not depend on how tiles are scheduled.
+fn render_tile(tracer: &Tracer, shader: &FilmShader, x0: usize, y0: usize) -> Tile {
+    let settings = tracer.settings;
+    let (w, h) = (settings.width, settings.height);
+    let aspect = w as f32 / h as f32;
+    let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
+    let mut shading = SampleShading::default();
+    let mut u = Vec::with_capacity(shader.randoms_per_sample());
+    let mut tile = Tile::empty(x0, y0);
+    tile.pixels.reserve((x1 - x0) * (y1 - y0));
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let mut st = PathState {
+                rng: Pcg32::new(settings.seed, mix64((y * w + x) as u64)),
+                rays: 0,
+            };
+            let px = Px { x, y, aspect };
+            let pixel = render_pixel(tracer, shader, px, &mut st, &mut shading, &mut u);
+            tile.pixels.push(pixel);
+            tile.rays += st.rays;
+        }
+    }
+    tile
+}
+
+/// The image from its tiles.
+fn assemble(w: usize, h: usize, tiles: Vec<Tile>) -> RenderOutput {
     let mut out = RenderOutput {
         width: w,
         height: h,
@@ -222,11 +148,11 @@ pub fn render(
         hits: vec![0.0; w * h],
         rays: 0,
     };
-    for (x0, y0, pixels, rays) in results {
-        out.rays += rays;
-        let tw = (x0 + TILE).min(w) - x0;
-        for (i, p) in pixels.into_iter().enumerate() {
-            let k = (y0 + i / tw) * w + x0 + i % tw;
+    for tile in tiles {
+        out.rays += tile.rays;
+        let tw = (tile.x0 + TILE).min(w) - tile.x0;
+        for (i, p) in tile.pixels.into_iter().enumerate() {
+            let k = (tile.y0 + i / tw) * w + tile.x0 + i % tw;
             out.rgb[k] = p.rgb;
             out.alpha[k] = p.alpha;
             out.depth[k] = p.depth;
@@ -235,7 +161,7 @@ pub fn render(
             out.hits[k] = p.hits;
         }
     }
-    Ok(out)
+    out
 }
 
 /// True once the caller has asked the render to stop.
@@ -262,37 +188,71 @@ struct Pixel {
     hits: f32,
 }
 
-fn render_pixel(
-    tr: &Tracer,
-    shader: &FilmShader,
-    px: Px,
-    st: &mut PathState,
-    shading: &mut SampleShading,
-    u: &mut Vec<f32>,
-) -> Pixel {
-    let s = tr.settings;
-    let (w, h) = (s.width, s.height);
-    let (x, y) = (px.x, px.y);
-    let strata = (s.spp as f32).sqrt() as u32;
-    let square = strata * strata == s.spp;
-    let spectral = shader.mode() == ShadingMode::Spectral;
-    let camera = &tr.scene.camera;
-    let mut p = Pixel::default();
-    let mut hit_samples = 0u32;
-    // Other counts: the R2 low-discrepancy sequence (M. Roberts, "The unreasonable effectiveness
-    // of quasirandom sequences", 2018), shifted by one random offset per pixel.
-    let r2_offset = if s.spp > 1 && !square {
-        (st.rng.next_f32(), st.rng.next_f32())
-    } else {
-        (0.0, 0.0)
-    };
-    for i in 0..s.spp {
-        // Sub-pixel position: the centre for 1 spp, jittered strata for square counts, else the
-        // shifted R2 sequence.
-        let rng = &mut st.rng;
-        let (jx, jy) = if s.spp == 1 {
+impl Pixel {
+    /// Adds one camera sample's radiance `c` and first film crossing.
+    fn add(&mut self, c: Vec3, hit: Option<SurfaceHit>, hit_samples: &mut u32) {
+        if let Some(hit) = hit {
+            *hit_samples += 1;
+            self.depth += hit.t;
+            self.normal += hit.normal;
+            self.thickness += hit.thickness_nm;
+            self.hits += hit.coverage as f32;
+        }
+        // Drop non-finite samples rather than poison the pixel (pbrt does the same).
+        if c.is_finite() {
+            self.rgb += c;
+        }
+    }
+
+    /// Means over `spp` samples, of which `hit_samples` met a film.
+    fn finish(&mut self, spp: u32, hit_samples: u32) {
+        let inv = 1.0 / spp as f32;
+        self.rgb *= inv;
+        self.alpha = hit_samples as f32 * inv;
+        if hit_samples > 0 {
+            let k = 1.0 / hit_samples as f32;
+            self.depth *= k;
+            self.normal *= k;
+            self.thickness *= k;
+            self.hits *= k;
+        }
+    }
+}
+
+/// Sub-pixel positions of a pixel's samples: the centre for 1 spp, jittered strata for square
+/// counts, else the R2 low-discrepancy sequence (M. Roberts, "The unreasonable effectiveness
+/// of quasirandom sequences", 2018) shifted by one random offset per pixel.
+struct SubPixel {
+    spp: u32,
+    strata: u32,
+    square: bool,
+    r2_offset: (f32, f32),
+}
+
+impl SubPixel {
+    /// The pattern for `spp` samples (draws the R2 offset from `rng` when it is used).
+    fn new(spp: u32, rng: &mut Pcg32) -> Self {
+        let strata = (spp as f32).sqrt() as u32;
+        let square = strata * strata == spp;
+        let r2_offset = if spp > 1 && !square {
+            (rng.next_f32(), rng.next_f32())
+        } else {
+            (0.0, 0.0)
+        };
+        SubPixel {
+            spp,
+            strata,
+            square,
+            r2_offset,
+        }
+    }
+
+    /// Position in the pixel of sample `i`, each coordinate in [0, 1).
+    fn at(&self, i: u32, rng: &mut Pcg32) -> (f32, f32) {
+        let strata = self.strata;
+        if self.spp == 1 {
             (0.5, 0.5)
-        } else if square {
+        } else if self.square {
             let (a, b) = (i % strata, i / strata);
             (
                 (a as f32 + rng.next_f32()) / strata as f32,
@@ -301,58 +261,74 @@ fn render_pixel(
         } else {
             const R2: (f32, f32) = (0.754_877_7, 0.569_840_3);
             (
-                (r2_offset.0 + i as f32 * R2.0).fract(),
-                (r2_offset.1 + i as f32 * R2.1).fract(),
+                (self.r2_offset.0 + i as f32 * R2.0).fract(),
+                (self.r2_offset.1 + i as f32 * R2.1).fract(),
             )
-        };
-        u.clear();
-        u.extend((0..shader.randoms_per_sample()).map(|_| rng.next_f32()));
-        shader.begin_sample(shading, u);
-        let lens = if camera.has_lens() {
-            (rng.next_f32(), rng.next_f32())
-        } else {
-            (0.5, 0.5)
-        };
-        let ray = camera.ray_lens(
-            (x as f32 + jx) / w as f32,
-            (y as f32 + jy) / h as f32,
-            px.aspect,
-            lens,
-        );
-        // The first crossing feeds the auxiliary buffers, then the ray tree.
-        let (c, hit) = if spectral {
-            let lanes = SpectralLanes::new(shading, shader.ior());
-            first(tr, &lanes, &ray, st)
-        } else {
-            let lanes = RgbLanes {
-                shader,
-                state: shading,
-            };
-            first(tr, &lanes, &ray, st)
-        };
-        if let Some(hit) = hit {
-            hit_samples += 1;
-            p.depth += hit.t;
-            p.normal += hit.normal;
-            p.thickness += hit.thickness_nm;
-            p.hits += hit.coverage as f32;
-        }
-        // Drop non-finite samples rather than poison the pixel (pbrt does the same).
-        if c.is_finite() {
-            p.rgb += c;
         }
     }
-    let inv = 1.0 / s.spp as f32;
-    p.rgb *= inv;
-    p.alpha = hit_samples as f32 * inv;
-    if hit_samples > 0 {
-        let k = 1.0 / hit_samples as f32;
-        p.depth *= k;
-        p.normal *= k;
-        p.thickness *= k;
-        p.hits *= k;
+}
+
+fn render_pixel(
+    tr: &Tracer,
+    shader: &FilmShader,
+    px: Px,
+    st: &mut PathState,
+    shading: &mut SampleShading,
+    u: &mut Vec<f32>,
+) -> Pixel {
+    let spp = tr.settings.spp;
+    let mut p = Pixel::default();
+    let mut hit_samples = 0u32;
+    let pattern = SubPixel::new(spp, &mut st.rng);
+    for i in 0..spp {
+        let jitter = pattern.at(i, &mut st.rng);
+        let (c, hit) = camera_sample(tr, shader, &px, jitter, st, shading, u);
+        p.add(c, hit, &mut hit_samples);
     }
+    p.finish(spp, hit_samples);
     p
+}
+
+/// One camera sample at sub-pixel position `jitter` of `px`: its wavelengths (in `shading`,
+/// from the random numbers `u`), lens position and ray, traced; linear RGB radiance and the
+/// first film crossing.
+fn camera_sample(
+    tr: &Tracer,
+    shader: &FilmShader,
+    px: &Px,
+    (jx, jy): (f32, f32),
+    st: &mut PathState,
+    shading: &mut SampleShading,
+    u: &mut Vec<f32>,
+) -> (Vec3, Option<SurfaceHit>) {
+    let (w, h) = (tr.settings.width, tr.settings.height);
+    let camera = &tr.scene.camera;
+    let rng = &mut st.rng;
+    u.clear();
+    u.extend((0..shader.randoms_per_sample()).map(|_| rng.next_f32()));
+    shader.begin_sample(shading, u);
+    let lens = if camera.has_lens() {
+        (rng.next_f32(), rng.next_f32())
+    } else {
+        (0.5, 0.5)
+    };
+    let ray = camera.ray_lens(
+        (px.x as f32 + jx) / w as f32,
+        (px.y as f32 + jy) / h as f32,
+        px.aspect,
+        lens,
+    );
+    // The first crossing feeds the auxiliary buffers, then the ray tree.
+    if shader.mode() == ShadingMode::Spectral {
+        let lanes = SpectralLanes::new(shading, shader.ior());
+        first(tr, &lanes, &ray, st)
+    } else {
+        let lanes = RgbLanes {
+            shader,
+            state: shading,
+        };
+        first(tr, &lanes, &ray, st)
+    }
 }
 
 /// One camera ray: its linear RGB radiance, and the film crossing if a film was nearest.
@@ -362,7 +338,7 @@ fn first<L: Lanes>(
     ray: &crate::geometry::Ray,
     st: &mut PathState,
 ) -> (Vec3, Option<SurfaceHit>) {
-    let (c, hit) = tr.nearest(l, ray, 0.0, 0, L::C::splat(1.0), st);
+    let (c, hit) = tr.nearest(l, Branch::new(ray, 0, L::C::splat(1.0)), st);
     (l.to_rgb(c), hit)
 }
 

@@ -6,8 +6,8 @@
 //! Microfacets: GGX distribution `D`, separable Smith shadowing `G`, and sampling of `D·cos θ_h`
 //! (Walter et al. 2007).
 
-use super::lights::frame;
 use super::radiance::{Lanes, Radiance};
+use crate::geometry::frame;
 use glam::Vec3;
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 

@@ -9,17 +9,24 @@ pub mod integrator;
 pub mod lights;
 pub mod material;
 pub mod presets;
+pub mod props;
 pub mod radiance;
 pub mod sampler;
 pub mod shading;
 mod transport;
 pub mod views;
+pub mod world;
 
 pub use camera::Camera;
 pub use environment::{Environment, LatLongMap, SoftBox, Studio};
-pub use integrator::{RenderOutput, RenderSettings, Scene, Staging, render};
-pub use lights::{AreaLight, LightShape};
+pub use integrator::{RenderOutput, render};
+pub use world::{RenderSettings, Staging, World};
+
+/// The old name of [`World`] (kept so callers need not change).
+pub type Scene = World;
+pub use lights::{AreaLight, Light, LightShape};
 pub use material::Material;
 pub use presets::{Preset, PresetValues};
+pub use props::{Prop, PropHit, Props};
 pub use shading::{FilmShader, ShadingMode};
 pub use views::{AttributeValues, Legend, Ramp, View, ViewImage, render_view, render_view_of};

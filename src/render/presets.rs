@@ -74,7 +74,7 @@ impl Preset {
     }
 
     /// Whether this preset gives disks their first-order detail (curvature and thickness
-    /// gradient, see `SplatGeometry::set_curvature`) when the scene does not say. `preview`
+    /// gradient, see `DiskGeometry::set_curvature`) when the scene does not say. `preview`
     /// skips it: the neighbour search is 0.6 of the 1.4 s a 1M-particle preview at 960×540
     /// took, and at preview resolution the picture barely changes (mean ΔE00 against a `final`
     /// render 0.66 without, 0.62 with).

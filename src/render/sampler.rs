@@ -40,13 +40,7 @@ impl Pcg32 {
     }
 }
 
-/// SplitMix64 finaliser: a strong 64-bit mix, for deriving seeds.
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
+pub use crate::mix::mix64;
 
 #[cfg(test)]
 mod tests {

@@ -15,20 +15,54 @@
 //! films reflect onto props (their caustics) is left out.
 
 use super::env_sampling::EnvSampler;
-use super::integrator::{RenderSettings, Scene};
 use super::lights::nearest;
 use super::material::Material;
+use super::props::PropHit;
 use super::radiance::{Lanes, Radiance};
 use super::sampler::Pcg32;
-use crate::geometry::{PropHit, Ray, SurfaceHit};
+use super::world::{RenderSettings, World};
+use crate::geometry::{Ray, SurfaceHit};
 use glam::Vec3;
 
 /// The renderer's view of a scene for one render.
 pub(crate) struct Tracer<'a> {
-    pub scene: &'a Scene,
+    pub scene: &'a World,
     pub settings: &'a RenderSettings,
     /// Environment sampling for props (None when the scene has no props).
     pub env: Option<EnvSampler>,
+}
+
+/// A branch of the ray tree: its ray, the distance along it where the search starts, its
+/// depth (film crossings and bounces so far) and its weight (what it contributes per unit
+/// radiance).
+#[derive(Clone, Copy)]
+pub(crate) struct Branch<'r, C> {
+    pub ray: &'r Ray,
+    pub t_min: f32,
+    pub depth: u32,
+    pub weight: C,
+}
+
+impl<'r, C> Branch<'r, C> {
+    /// A branch along `ray` from its origin on.
+    #[inline]
+    pub fn new(ray: &'r Ray, depth: u32, weight: C) -> Self {
+        Branch {
+            ray,
+            t_min: 0.0,
+            depth,
+            weight,
+        }
+    }
+}
+
+/// A prop shading point: position `p` (already offset), normal `n` facing the incoming ray,
+/// direction `wo` back along it, and the prop's material.
+struct PropPoint<'m> {
+    p: Vec3,
+    n: Vec3,
+    wo: Vec3,
+    m: &'m Material,
 }
 
 /// Mutable per-path state.
@@ -50,18 +84,8 @@ fn power(a: f32, b: f32) -> f32 {
     }
 }
 
-/// What a ray meeting `light` sees: its emission from the front, black from behind.
-#[inline]
-fn emitted<L: Lanes>(l: &L, light: &super::lights::AreaLight, front: bool) -> L::C {
-    if front {
-        l.emission(light)
-    } else {
-        L::C::splat(0.0)
-    }
-}
-
 impl<'a> Tracer<'a> {
-    pub fn new(scene: &'a Scene, settings: &'a RenderSettings) -> Self {
+    pub fn new(scene: &'a World, settings: &'a RenderSettings) -> Self {
         let env = (settings.next_event && !scene.staging.props.is_empty())
             .then(|| EnvSampler::new(&scene.environment));
         Tracer {
@@ -77,15 +101,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// Radiance arriving along `ray` from beyond `t_min`.
-    pub fn trace<L: Lanes>(
-        &self,
-        l: &L,
-        ray: &Ray,
-        t_min: f32,
-        depth: u32,
-        weight: L::C,
-        st: &mut PathState,
-    ) -> L::C {
+    pub fn trace<L: Lanes>(&self, l: &L, b: Branch<'_, L::C>, st: &mut PathState) -> L::C {
+        let Branch {
+            ray,
+            t_min,
+            depth,
+            weight,
+        } = b;
         let w = weight.max_channel();
         if depth >= self.settings.max_depth || w < self.settings.min_weight {
             return self.escape(l, ray, t_min);
@@ -102,10 +124,10 @@ impl<'a> Tracer<'a> {
                 return esc;
             }
             let boost = weight * (1.0 / q);
-            let full = self.nearest(l, ray, t_min, depth, boost, st).0;
+            let full = self.nearest(l, Branch { weight: boost, ..b }, st).0;
             return esc + (full - esc) * (1.0 / q);
         }
-        self.nearest(l, ray, t_min, depth, weight, st).0
+        self.nearest(l, b, st).0
     }
 
     /// What a pruned branch along `ray` sees from its origin on (see `escape`).
@@ -119,7 +141,7 @@ impl<'a> Tracer<'a> {
         if !lights.is_empty()
             && let Some((i, _, front)) = nearest(lights, ray, t_min, f32::INFINITY)
         {
-            return emitted(l, &lights[i], front);
+            return lights[i].le(l, front);
         }
         l.input(self.scene.environment.radiance(ray.dir))
     }
@@ -129,12 +151,15 @@ impl<'a> Tracer<'a> {
     pub fn nearest<L: Lanes>(
         &self,
         l: &L,
-        ray: &Ray,
-        t_min: f32,
-        depth: u32,
-        weight: L::C,
+        b: Branch<'_, L::C>,
         st: &mut PathState,
     ) -> (L::C, Option<SurfaceHit>) {
+        let Branch {
+            ray,
+            t_min,
+            depth,
+            weight,
+        } = b;
         st.rays += 1;
         let staging = &self.scene.staging;
         let film = self.scene.geometry.intersect(ray, t_min, f32::INFINITY);
@@ -158,7 +183,7 @@ impl<'a> Tracer<'a> {
         if !staging.lights.is_empty()
             && let Some((i, _, front)) = nearest(&staging.lights, ray, t_min, t_max)
         {
-            return (emitted(l, &staging.lights[i], front), None);
+            return (staging.lights[i].le(l, front), None);
         }
         if let Some(p) = prop {
             let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
@@ -192,14 +217,13 @@ impl<'a> Tracer<'a> {
         let r = l.film_reflectance(cos_i, hit.thickness_nm);
         let t = L::C::splat(1.0) - r;
         // Transmitted: the same line, beyond the film layer.
-        let lt = self.trace(
-            l,
+        let transmitted = Branch {
             ray,
-            hit.t_exit + self.scene.epsilon,
-            depth + 1,
-            weight * t,
-            st,
-        );
+            t_min: hit.t_exit + self.scene.epsilon,
+            depth: depth + 1,
+            weight: weight * t,
+        };
+        let lt = self.trace(l, transmitted, st);
         // Reflected: mirror about the normal that faces the incoming ray.
         let n = if cos_signed < 0.0 {
             hit.normal
@@ -212,7 +236,13 @@ impl<'a> Tracer<'a> {
             origin: hit.position,
             dir,
         };
-        let lr = self.trace(l, &reflected, skip, depth + 1, weight * r, st);
+        let reflected = Branch {
+            ray: &reflected,
+            t_min: skip,
+            depth: depth + 1,
+            weight: weight * r,
+        };
+        let lr = self.trace(l, reflected, st);
         r * lr + t * lt
     }
 
@@ -226,7 +256,7 @@ impl<'a> Tracer<'a> {
         bounces: u32,
         st: &mut PathState,
     ) -> L::C {
-        let m = &self.scene.staging.materials[hit.index];
+        let m = self.scene.staging.props.material(hit.index);
         let n = if hit.normal.dot(ray.dir) > 0.0 {
             -hit.normal
         } else {
@@ -238,71 +268,88 @@ impl<'a> Tracer<'a> {
             let f = m.mirror_reflectance(l, n.dot(wo));
             let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
             let reflected = Ray { origin: p, dir };
-            return f * self.trace(l, &reflected, 0.0, depth + 1, f, st);
+            return f * self.trace(l, Branch::new(&reflected, depth + 1, f), st);
         }
+        let at = PropPoint { p, n, wo, m };
         let k = self.settings.light_samples.max(1);
         let mut sum = L::C::splat(0.0);
         for _ in 0..k {
-            sum = sum + self.prop_sample(l, p, n, wo, m, depth, bounces, st);
+            sum = sum + self.prop_sample(l, &at, depth, bounces, st);
         }
         sum * (1.0 / k as f32)
     }
 
-    /// One sample of each strategy at a prop point `p` (already offset) with normal `n`.
-    #[allow(clippy::too_many_arguments)]
+    /// One sample of each strategy at the prop point `at`.
     fn prop_sample<L: Lanes>(
         &self,
         l: &L,
-        p: Vec3,
-        n: Vec3,
-        wo: Vec3,
-        m: &Material,
+        at: &PropPoint,
         depth: u32,
         bounces: u32,
         st: &mut PathState,
     ) -> L::C {
-        let lights = &self.scene.staging.lights;
-        let env = &self.scene.environment;
-        let nl = lights.len() as f32;
         let mut sum = L::C::splat(0.0);
-        let nee = self.settings.next_event;
-        // Light sampling.
-        if nee && !lights.is_empty() {
-            let i = ((st.rng.next_f32() * nl) as usize).min(lights.len() - 1);
-            let u = (st.rng.next_f32(), st.rng.next_f32());
-            if let Some(s) = lights[i].sample(p, u) {
-                let cos = n.dot(s.dir);
-                if cos > 0.0 {
-                    let pdf = s.pdf / nl;
-                    let t_max = s.dist * (1.0 - 1e-4);
-                    if let Some(tr) = self.transmittance(l, p, s.dir, t_max, st) {
-                        let w = power(pdf, m.pdf(n, wo, s.dir));
-                        let le = l.emission(&lights[i]);
-                        sum = sum + m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf);
-                    }
-                }
-            }
+        if let Some(c) = self.light_strategy(l, at, st) {
+            sum = sum + c;
         }
-        // Environment sampling.
-        if let Some(es) = &self.env {
-            let (d, pdf) = es.sample((st.rng.next_f32(), st.rng.next_f32()));
-            let cos = n.dot(d);
-            if cos > 0.0
-                && let Some(tr) = self.transmittance(l, p, d, f32::INFINITY, st)
-            {
-                let w = power(pdf, m.pdf(n, wo, d));
-                let le = l.input(env.radiance(d));
-                sum = sum + m.eval(l, n, wo, d) * tr * le * (cos * w / pdf);
-            }
+        if let Some(c) = self.env_strategy(l, at, st) {
+            sum = sum + c;
         }
-        // Material sampling: emitters it meets, or one indirect bounce off another prop.
+        match self.material_strategy(l, at, depth, bounces, st) {
+            Some(c) => sum + c,
+            None => sum,
+        }
+    }
+
+    /// Light sampling: a point on a light chosen uniformly, MIS-weighted against the material.
+    fn light_strategy<L: Lanes>(&self, l: &L, at: &PropPoint, st: &mut PathState) -> Option<L::C> {
+        let lights = &self.scene.staging.lights;
+        if !self.settings.next_event || lights.is_empty() {
+            return None;
+        }
+        let (p, n, wo, m) = (at.p, at.n, at.wo, at.m);
+        let nl = lights.len() as f32;
+        let i = ((st.rng.next_f32() * nl) as usize).min(lights.len() - 1);
+        let u = (st.rng.next_f32(), st.rng.next_f32());
+        let s = lights[i].sample_li(p, u)?;
+        let cos = Some(n.dot(s.dir)).filter(|&c| c > 0.0)?;
+        let pdf = s.pdf / nl;
+        let t_max = s.dist * (1.0 - 1e-4);
+        let tr = self.transmittance(l, p, s.dir, t_max, st)?;
+        let w = power(pdf, m.pdf(n, wo, s.dir));
+        let le = lights[i].le(l, true);
+        Some(m.eval(l, n, wo, s.dir) * tr * le * (cos * w / pdf))
+    }
+
+    /// Environment sampling by its importance distribution, MIS-weighted against the material.
+    fn env_strategy<L: Lanes>(&self, l: &L, at: &PropPoint, st: &mut PathState) -> Option<L::C> {
+        let es = self.env.as_ref()?;
+        let (p, n, wo, m) = (at.p, at.n, at.wo, at.m);
+        let (d, pdf) = es.sample((st.rng.next_f32(), st.rng.next_f32()));
+        let cos = Some(n.dot(d)).filter(|&c| c > 0.0)?;
+        let tr = self.transmittance(l, p, d, f32::INFINITY, st)?;
+        let w = power(pdf, m.pdf(n, wo, d));
+        let le = l.input(self.scene.environment.radiance(d));
+        Some(m.eval(l, n, wo, d) * tr * le * (cos * w / pdf))
+    }
+
+    /// Material sampling: the emitters the sampled direction meets (MIS-weighted against light
+    /// and environment sampling), or one indirect bounce off another prop.
+    fn material_strategy<L: Lanes>(
+        &self,
+        l: &L,
+        at: &PropPoint,
+        depth: u32,
+        bounces: u32,
+        st: &mut PathState,
+    ) -> Option<L::C> {
+        let (p, n, wo, m) = (at.p, at.n, at.wo, at.m);
+        let lights = &self.scene.staging.lights;
         let u = (st.rng.next_f32(), st.rng.next_f32(), st.rng.next_f32());
-        let Some(wi) = m.sample(n, wo, u) else {
-            return sum;
-        };
+        let wi = m.sample(n, wo, u)?;
         let pdf = m.pdf(n, wo, wi);
         if pdf <= 0.0 {
-            return sum;
+            return None;
         }
         let ray = Ray { origin: p, dir: wi };
         let props = &self.scene.staging.props;
@@ -319,17 +366,15 @@ impl<'a> Tracer<'a> {
             nearest(lights, &ray, 0.0, t_prop)
         };
         let t_end = light.map_or(t_prop, |x| x.1);
-        let Some(tr) = self.film_transmittance(l, &ray, t_end, st) else {
-            return sum;
-        };
+        let tr = self.film_transmittance(l, &ray, t_end, st)?;
         let incoming = match (light, prop) {
             (Some((i, t, front)), _) => {
-                let w = if nee {
-                    power(pdf, lights[i].pdf(p, wi, t) / nl)
+                let w = if self.settings.next_event {
+                    power(pdf, lights[i].pdf_li(p, wi, t) / lights.len() as f32)
                 } else {
                     1.0
                 };
-                emitted(l, &lights[i], front) * w
+                lights[i].le(l, front) * w
             }
             (None, Some(h)) if bounces > 0 => {
                 self.shade_prop(l, &ray, &h, depth + 1, bounces - 1, st)
@@ -337,10 +382,10 @@ impl<'a> Tracer<'a> {
             (None, Some(_)) => L::C::splat(0.0),
             (None, None) => {
                 let w = self.env.as_ref().map_or(1.0, |es| power(pdf, es.pdf(wi)));
-                l.input(env.radiance(wi)) * w
+                l.input(self.scene.environment.radiance(wi)) * w
             }
         };
-        sum + m.eval(l, n, wo, wi) * tr * incoming * (n.dot(wi) / pdf)
+        Some(m.eval(l, n, wo, wi) * tr * incoming * (n.dot(wi) / pdf))
     }
 
     /// What passes from `p` along `dir` up to `t_max`: `None` if a prop or light blocks it,

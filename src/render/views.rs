@@ -1,7 +1,7 @@
 //! Scientific views: what the camera's first film crossing holds, drawn exactly and cheaply
 //! (no spectra, no ray tree, one ray through each pixel centre).
 
-use super::integrator::Scene;
+use super::world::World;
 use crate::geometry::SurfaceHit;
 use crate::image::{srgb_to_linear, viridis};
 use crate::{Error, Result};
@@ -148,7 +148,7 @@ type Colouring = Box<dyn Fn(&SurfaceHit) -> Vec3 + Sync>;
 const BACKGROUND: Vec3 = Vec3::splat(0.012);
 
 /// Renders `view` (not [`View::Shaded`]) at `width × height`.
-pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Result<ViewImage> {
+pub fn render_view(scene: &World, view: View, width: usize, height: usize) -> Result<ViewImage> {
     render_view_of(scene, view, width, height, None)
 }
 
@@ -158,7 +158,7 @@ pub fn render_view(scene: &Scene, view: View, width: usize, height: usize) -> Re
 /// As [`render_view`]; an attribute view without values, or with a count that is not the
 /// geometry's, is refused.
 pub fn render_view_of(
-    scene: &Scene,
+    scene: &World,
     view: View,
     width: usize,
     height: usize,
@@ -180,8 +180,24 @@ pub fn render_view_of(
             "render_view: the shaded view is the integrator's".into(),
         ));
     }
+    let hits = primary_hits(scene, width, height);
+    let (colour, legend) = colouring(view, &hits, attribute);
+    let rgb = hits
+        .par_iter()
+        .map(|h| h.as_ref().map_or(BACKGROUND, &colour))
+        .collect();
+    Ok(ViewImage {
+        width,
+        height,
+        rgb,
+        legend,
+    })
+}
+
+/// The first film crossing of each pixel's centre ray, row-major.
+fn primary_hits(scene: &World, width: usize, height: usize) -> Vec<Option<SurfaceHit>> {
     let aspect = width as f32 / height as f32;
-    let hits: Vec<Option<SurfaceHit>> = (0..width * height)
+    (0..width * height)
         .into_par_iter()
         .with_min_len(256)
         .map(|k| {
@@ -193,7 +209,16 @@ pub fn render_view_of(
             );
             scene.geometry.intersect(&ray, 0.0, f32::INFINITY)
         })
-        .collect();
+        .collect()
+}
+
+/// How `view` colours a crossing, and its colour bar: value views span the range of the
+/// values in `hits` (unless the attribute gives one).
+fn colouring(
+    view: View,
+    hits: &[Option<SurfaceHit>],
+    attribute: Option<&AttributeValues>,
+) -> (Colouring, Option<Legend>) {
     let range = |f: &dyn Fn(&SurfaceHit) -> f32| {
         hits.iter()
             .flatten()
@@ -202,28 +227,42 @@ pub fn render_view_of(
                 (lo.min(v), hi.max(v))
             })
     };
-    let legend = |title: &str, (min, max): (f32, f32), ramp| Legend {
-        title: title.into(),
-        min,
-        max,
-        ramp,
+    // A value view: the legend's ramp applied to `value` of the crossing.
+    let ramp = |title: &str,
+                (min, max): (f32, f32),
+                ramp,
+                value: Box<dyn Fn(&SurfaceHit) -> f32 + Sync>|
+     -> (Colouring, Option<Legend>) {
+        let l = Legend {
+            title: title.into(),
+            min,
+            max,
+            ramp,
+        };
+        let paint = l.clone();
+        (Box::new(move |h| paint.colour(value(h))), Some(l))
     };
-    let (colour, legend): (Colouring, Option<Legend>) = match view {
-        View::Thickness => {
-            let l = legend("thickness (nm)", range(&|h| h.thickness_nm), Ramp::Viridis);
-            let paint = l.clone();
-            (Box::new(move |h| paint.colour(h.thickness_nm)), Some(l))
-        }
-        View::Depth => {
-            let l = legend("distance (scene units)", range(&|h| h.t), Ramp::GreyFalling);
-            let paint = l.clone();
-            (Box::new(move |h| paint.colour(h.t)), Some(l))
-        }
+    match view {
+        View::Thickness => ramp(
+            "thickness (nm)",
+            range(&|h| h.thickness_nm),
+            Ramp::Viridis,
+            Box::new(|h| h.thickness_nm),
+        ),
+        View::Depth => ramp(
+            "distance (scene units)",
+            range(&|h| h.t),
+            Ramp::GreyFalling,
+            Box::new(|h| h.t),
+        ),
         View::Coverage => {
             let r = (1.0, range(&|h| h.coverage as f32).1.max(2.0));
-            let l = legend("splats blended", r, Ramp::Viridis);
-            let paint = l.clone();
-            (Box::new(move |h| paint.colour(h.coverage as f32)), Some(l))
+            ramp(
+                "splats blended",
+                r,
+                Ramp::Viridis,
+                Box::new(|h| h.coverage as f32),
+            )
         }
         View::Normal => (
             Box::new(|h| (h.normal * 0.5 + Vec3::splat(0.5)).map(srgb_to_linear)),
@@ -231,31 +270,15 @@ pub fn render_view_of(
         ),
         View::ParticleId => (Box::new(|h| id_colour(h.particle)), None),
         View::Attribute => {
-            let a = attribute.expect("checked above");
-            let value = |h: &SurfaceHit| a.values.get(h.particle as usize).copied().unwrap_or(0.0);
-            let r = a.range.unwrap_or_else(|| range(&value));
-            let l = legend(&a.title, r, Ramp::Viridis);
-            let paint = l.clone();
+            let a = attribute.expect("checked by render_view_of");
             let values = a.values.clone();
-            (
-                Box::new(move |h| {
-                    paint.colour(values.get(h.particle as usize).copied().unwrap_or(0.0))
-                }),
-                Some(l),
-            )
+            let value =
+                move |h: &SurfaceHit| values.get(h.particle as usize).copied().unwrap_or(0.0);
+            let r = a.range.unwrap_or_else(|| range(&value));
+            ramp(&a.title, r, Ramp::Viridis, Box::new(value))
         }
-        View::Shaded => unreachable!("rejected above"),
-    };
-    let rgb = hits
-        .par_iter()
-        .map(|h| h.as_ref().map_or(BACKGROUND, &colour))
-        .collect();
-    Ok(ViewImage {
-        width,
-        height,
-        rgb,
-        legend,
-    })
+        View::Shaded => unreachable!("rejected by render_view_of"),
+    }
 }
 
 /// Linear value of an sRGB-encoded grey level, so ramps look even on screen.
@@ -273,22 +296,15 @@ fn id_colour(id: u32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Primitive, SplatGeometry};
+    use crate::geometry::DiskGeometry;
     use crate::render::{Camera, Environment};
 
     #[test]
     fn thickness_view_maps_the_range_and_leaves_background() {
         // Two disks side by side, 100 and 500 nm.
         let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
-        let geometry = SplatGeometry::build(
-            Primitive::Disk,
-            &p,
-            &[Vec3::Z; 2],
-            &[0.9; 2],
-            &[100.0, 500.0],
-        )
-        .unwrap();
-        let scene = Scene {
+        let geometry = DiskGeometry::build(&p, &[Vec3::Z; 2], &[0.9; 2], &[100.0, 500.0]).unwrap();
+        let scene = World {
             geometry: geometry.into(),
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
             environment: Environment::Uniform(Vec3::ONE),

@@ -1,5 +1,7 @@
 //! A tiny deterministic PRNG (SplitMix64, Steele et al. 2014) for reproducible samples.
 
+use crate::mix::{GOLDEN_GAMMA, mix64};
+
 /// SplitMix64 generator: 64-bit state, passes BigCrush, one multiply-xorshift chain a draw.
 #[derive(Debug, Clone)]
 pub struct SplitMix64 {
@@ -22,11 +24,9 @@ impl SplitMix64 {
 
     /// Next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        let z = mix64(self.state);
+        self.state = self.state.wrapping_add(GOLDEN_GAMMA);
+        z
     }
 
     /// Uniform in [0, 1) with 53 random bits.

@@ -19,8 +19,8 @@ mod triangle;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use self::triangle::ShearedRay;
-use super::{Aabb, Bvh, BvhParams, Ray, SurfaceHit};
+pub(crate) use self::triangle::ShearedRay;
+use super::{Aabb, Bvh, Ray, SurfaceHit};
 use crate::{Error, Result};
 
 /// Which surface crossings of a mesh are films.
@@ -56,6 +56,76 @@ pub struct MeshGeometry {
     sides: MeshSides,
 }
 
+/// Checks the mesh arrays (see [`MeshGeometry::build`]); errors name the array and element.
+fn check_mesh(
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+    normals: &[Vec3],
+    thickness_nm: &[f32],
+) -> Result<()> {
+    let n = positions.len();
+    if thickness_nm.len() != n {
+        return Err(Error::invalid(format!(
+            "mesh: thickness has {} entries for {n} vertices",
+            thickness_nm.len()
+        )));
+    }
+    if !normals.is_empty() && normals.len() != n {
+        return Err(Error::invalid(format!(
+            "mesh: normals has {} entries for {n} vertices",
+            normals.len()
+        )));
+    }
+    if triangles.len() >= u32::MAX as usize {
+        return Err(Error::invalid("mesh: too many triangles"));
+    }
+    if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(Error::invalid(format!(
+            "mesh: vertex {i} has a non-finite position {}",
+            positions[i]
+        )));
+    }
+    if let Some(i) = thickness_nm
+        .iter()
+        .position(|t| !(t.is_finite() && *t >= 0.0))
+    {
+        return Err(Error::invalid(format!(
+            "mesh: vertex {i} has an invalid thickness {} nm",
+            thickness_nm[i]
+        )));
+    }
+    if let Some((i, t)) = triangles
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&v| v as usize >= n))
+    {
+        return Err(Error::invalid(format!(
+            "mesh: triangle {i} names vertex {} of {n}",
+            t.iter().max().expect("three")
+        )));
+    }
+    Ok(())
+}
+
+/// Unit vertex normals: `normals` normalised, or if empty the area-weighted mean of the
+/// adjacent triangles' normals (oriented by the winding); zero where none is defined.
+fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]], normals: &[Vec3]) -> Vec<Vec3> {
+    let n = positions.len();
+    if normals.is_empty() {
+        let mut sum = vec![Vec3::ZERO; n];
+        for t in triangles {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            let g = (b - a).cross(c - a);
+            for v in t {
+                sum[*v as usize] += g;
+            }
+        }
+        sum.into_iter().map(Vec3::normalize_or_zero).collect()
+    } else {
+        normals.iter().map(|v| v.normalize_or_zero()).collect()
+    }
+}
+
 impl MeshGeometry {
     /// Builds the mesh. `positions`, `thickness_nm` and `normals` have one entry per vertex;
     /// `normals` may be empty, then they are the area-weighted mean of the adjacent triangles'
@@ -69,60 +139,8 @@ impl MeshGeometry {
         normals: &[Vec3],
         thickness_nm: &[f32],
     ) -> Result<Self> {
-        let n = positions.len();
-        if thickness_nm.len() != n {
-            return Err(Error::invalid(format!(
-                "mesh: thickness has {} entries for {n} vertices",
-                thickness_nm.len()
-            )));
-        }
-        if !normals.is_empty() && normals.len() != n {
-            return Err(Error::invalid(format!(
-                "mesh: normals has {} entries for {n} vertices",
-                normals.len()
-            )));
-        }
-        if triangles.len() >= u32::MAX as usize {
-            return Err(Error::invalid("mesh: too many triangles"));
-        }
-        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(Error::invalid(format!(
-                "mesh: vertex {i} has a non-finite position {}",
-                positions[i]
-            )));
-        }
-        if let Some(i) = thickness_nm
-            .iter()
-            .position(|t| !(t.is_finite() && *t >= 0.0))
-        {
-            return Err(Error::invalid(format!(
-                "mesh: vertex {i} has an invalid thickness {} nm",
-                thickness_nm[i]
-            )));
-        }
-        if let Some((i, t)) = triangles
-            .iter()
-            .enumerate()
-            .find(|(_, t)| t.iter().any(|&v| v as usize >= n))
-        {
-            return Err(Error::invalid(format!(
-                "mesh: triangle {i} names vertex {} of {n}",
-                t.iter().max().expect("three")
-            )));
-        }
-        let normals = if normals.is_empty() {
-            let mut sum = vec![Vec3::ZERO; n];
-            for t in triangles {
-                let [a, b, c] = t.map(|v| positions[v as usize]);
-                let g = (b - a).cross(c - a);
-                for v in t {
-                    sum[*v as usize] += g;
-                }
-            }
-            sum.into_iter().map(Vec3::normalize_or_zero).collect()
-        } else {
-            normals.iter().map(|v| v.normalize_or_zero()).collect()
-        };
+        check_mesh(positions, triangles, normals, thickness_nm)?;
+        let normals = vertex_normals(positions, triangles, normals);
         let bounds: Vec<Aabb> = triangles
             .par_iter()
             .map(|t| {
@@ -133,7 +151,7 @@ impl MeshGeometry {
                 Aabb::new(lo, hi).padded(pad)
             })
             .collect();
-        let bvh = Bvh::build_with(&bounds, BvhParams::default());
+        let bvh = Bvh::build(&bounds);
         let tris = bvh
             .order()
             .iter()
@@ -217,18 +235,6 @@ impl MeshGeometry {
         })
     }
 
-    /// True if any triangle is hit with `t_min < t < t_max` (shadow rays).
-    pub fn intersect_any(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        if !ray.is_valid() {
-            return false;
-        }
-        let sr = ShearedRay::new(ray);
-        self.bvh.any(ray, t_min, t_max, |s| {
-            let p = &self.tris[s as usize];
-            sr.intersect(p.v[0], p.v[1], p.v[2], t_min, t_max).is_some()
-        })
-    }
-
     /// The wall width of a thin closed shell, if the mesh is one: from up to `samples` vertices
     /// spread over the mesh, the distance along the vertex normal (either way) to the nearest
     /// other part of the surface. If at least 80% of them find the surface within 5% of the
@@ -273,6 +279,11 @@ impl MeshGeometry {
     /// Bounds of all triangles (slightly padded; empty for no triangles).
     pub fn bounds(&self) -> Aabb {
         self.bvh.bounds()
+    }
+
+    /// The underlying BVH (slot order and nodes), for statistics and debugging.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
     }
 
     /// Number of triangles.

@@ -26,8 +26,8 @@ mod trace;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::particles::{check_particles, particle_bvh};
 use super::primitives::sphere_bounds;
-use super::splat::check_particles;
 use super::{Aabb, Bvh};
 use crate::{Error, Result};
 use field::Cand;
@@ -127,15 +127,12 @@ impl MlsSurface {
         }
         check_particles(positions, normals, radii, thickness_nm, true)?;
         let h = |i: usize| radii[i] * params.support;
-        let bounds: Vec<Aabb> = (0..positions.len())
-            .into_par_iter()
-            .map(|i| {
-                let c = positions[i];
-                sphere_bounds(c, h(i)).padded((c.abs().max_element() + h(i)) * 1e-6)
-            })
-            .collect();
-        let bvh = Bvh::build(&bounds);
-        drop(bounds);
+        let bvh = particle_bvh(
+            positions.len(),
+            |i| positions[i],
+            h,
+            |i| sphere_bounds(positions[i], h(i)),
+        );
         let particles: Vec<MlsParticle> = bvh
             .order()
             .par_iter()
@@ -220,6 +217,11 @@ impl MlsSurface {
     /// Bounds of the support spheres (the empty box for zero particles).
     pub fn bounds(&self) -> Aabb {
         self.bvh.bounds()
+    }
+
+    /// The underlying BVH (slot order and nodes), for statistics and debugging.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
     }
 
     /// Number of particles.

@@ -120,11 +120,6 @@ impl MlsSurface {
         Ok(None)
     }
 
-    /// True if the surface is crossed with `t_min < t < t_max` (as [`MlsSurface::intersect`]).
-    pub fn intersect_any(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        self.intersect(ray, t_min, t_max).is_some()
-    }
-
     /// The first valid crossing in the support interval `[s0, s1]` covered by `cands`, whose
     /// smallest particle radius is `r`.
     fn march(&self, ray: &Ray, cands: &[Cand], s0: f32, s1: f32, r: f32) -> Option<SurfaceHit> {

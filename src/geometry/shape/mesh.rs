@@ -1,6 +1,7 @@
-//! Triangle-mesh props: flat-shaded triangles in a BVH, intersected with the Möller–Trumbore
-//! test.
+//! Triangle-mesh shapes: flat-shaded triangles in a BVH, intersected with the same watertight
+//! test as film meshes ([`crate::geometry::MeshGeometry`]).
 
+use crate::geometry::mesh::ShearedRay;
 use crate::geometry::{Aabb, Bvh, Ray};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -69,44 +70,22 @@ impl Mesh {
         self.tris.is_empty()
     }
 
-    /// First hit with `t_min < t < t_max`: distance and face normal.
+    /// First hit with `t_min < t < t_max`: distance and face normal (two-sided).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, Vec3)> {
+        if !ray.is_valid() {
+            return None;
+        }
+        let sr = ShearedRay::new(ray);
         let mut best = None;
         self.bvh.closest(ray, t_min, t_max, |slot, t_max| {
             let [a, b, c] = self.tris[slot as usize];
-            if let Some(t) = triangle(ray, a, b, c)
-                && t > t_min
-                && t < *t_max
-            {
+            if let Some((t, _)) = sr.intersect(a, b, c, t_min, *t_max) {
                 *t_max = t;
                 best = Some((t, self.normals[slot as usize]));
             }
         });
         best
     }
-}
-
-/// Möller–Trumbore ray–triangle distance (two-sided).
-#[inline]
-fn triangle(ray: &Ray, a: Vec3, b: Vec3, c: Vec3) -> Option<f32> {
-    let (e1, e2) = (b - a, c - a);
-    let p = ray.dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = ray.origin - a;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = ray.dir.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    Some(e2.dot(q) * inv)
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-//! The query internals of [`SplatGeometry`]: closest disk or sphere, and the single-pass
-//! disk-layer search.
+//! The query internals of [`DiskGeometry`]: the closest disk, and the single-pass disk-layer
+//! search.
 //!
 //! The layer search runs one closest-hit traversal whose pruning distance is not the current
 //! closest hit `t` but the end of its layer band, `t + band`, collecting the other disk hits on
@@ -15,10 +15,10 @@
 //! are then handled one by one in slot order, exactly as the per-slot closures did.
 
 use super::blend::{LayerSum, kernel};
-use super::disk4::Ray4;
-use super::primitives::{intersect_disk, sphere_roots};
-use super::splat::SpherePrim;
-use super::{Ray, SplatGeometry, SurfaceHit};
+use super::disks::DiskGeometry;
+use super::primitives::intersect_disk;
+use super::ray4::Ray4;
+use super::{Ray, SurfaceHit};
 
 /// Candidate buffer of the single-pass layer search (entries of 12 bytes on the stack).
 const MAX_CANDIDATES: usize = 48;
@@ -31,7 +31,17 @@ const LIMIT_SLACK: f32 = 1.5;
 /// A disk hit: slot, distance, squared distance from the disk centre.
 type DiskHit = (u32, f32, f32);
 
-impl SplatGeometry {
+/// What the single-pass layer search collected: the closest disk hit, the candidates for its
+/// layer, and whether they are complete (see the module docs).
+struct LayerSearch {
+    best: DiskHit,
+    cands: [DiskHit; MAX_CANDIDATES],
+    nc: usize,
+    overflow: bool,
+    min_lim: f32,
+}
+
+impl DiskGeometry {
     /// Tests the disks in slots `first .. first + count` four at a time for
     /// `t_min < t < t_max` and calls `hit(slot, t, d2)` for each hit, in slot order.
     #[inline(always)]
@@ -60,16 +70,6 @@ impl SplatGeometry {
         }
     }
 
-    /// True if any disk is hit with `t_min < t < t_max`.
-    pub(super) fn any_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let r4 = Ray4::new(ray);
-        self.bvh.any_leaves(ray, t_min, t_max, |first, count| {
-            let mut any = false;
-            self.disk_leaf(&r4, (first, count), t_min, t_max, |_, _, _| any = true);
-            any
-        })
-    }
-
     /// Closest disk; ties in `t` go to the lowest particle index.
     #[inline]
     pub(super) fn closest_disk(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<DiskHit> {
@@ -81,7 +81,8 @@ impl SplatGeometry {
                 self.disk_leaf(&r4, (first, count), t_min, hi, |s, t, d2| {
                     // Inclusive of the current closest `t` (ties), as `intersect_disk(.., hi)`.
                     let hi = if best.is_some() { lim.next_up() } else { t_max };
-                    if t < hi && best.is_none_or(|(bs, bt, _)| t < bt || self.lower_particle(s, bs))
+                    if t < hi
+                        && best.is_none_or(|(bs, bt, _)| t < bt || self.bvh.lower_particle(s, bs))
                     {
                         best = Some((s, t, d2));
                         *lim = t;
@@ -93,7 +94,14 @@ impl SplatGeometry {
 
     /// The blended crossing of the closest disk layer (single pass, see the module docs).
     pub(super) fn disk_layer_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let order = &self.bvh.order;
+        let search = self.search_layer(ray, t_min, t_max)?;
+        Some(self.blend_layer(ray, t_min, t_max, &search))
+    }
+
+    /// One closest-hit traversal pruned at the end of the current closest hit's band, collecting
+    /// the other disk hits on the way; `None` if no disk is hit.
+    #[inline(always)]
+    fn search_layer(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<LayerSearch> {
         let mut min_lim = f32::INFINITY;
         let mut best: Option<DiskHit> = None;
         let mut cands = [(0u32, 0f32, 0f32); MAX_CANDIDATES];
@@ -112,7 +120,7 @@ impl SplatGeometry {
                         return;
                     }
                     let closer = best.is_none_or(|(bs, bt, _)| {
-                        t < bt || (t == bt && self.lower_particle(s, bs))
+                        t < bt || (t == bt && self.bvh.lower_particle(s, bs))
                     });
                     let candidate = if closer {
                         *lim = (t + LIMIT_SLACK
@@ -124,29 +132,25 @@ impl SplatGeometry {
                         Some((s, t, d2))
                     };
                     if let Some(c) = candidate {
-                        if nc == MAX_CANDIDATES {
-                            // Drop candidates beyond the current band (if the band grows again later,
-                            // `min_lim` sends the query to the exact fallback).
-                            let keep = *lim;
-                            let mut k = 0;
-                            for i in 0..nc {
-                                if cands[i].1 <= keep {
-                                    cands[k] = cands[i];
-                                    k += 1;
-                                }
-                            }
-                            nc = k;
-                        }
-                        if nc < MAX_CANDIDATES {
-                            cands[nc] = c;
-                            nc += 1;
-                        } else {
-                            overflow = true;
-                        }
+                        overflow |= !push_candidate(&mut cands, &mut nc, c, *lim);
                     }
                 });
             });
-        let (slot0, t0, d2) = best?;
+        Some(LayerSearch {
+            best: best?,
+            cands,
+            nc,
+            overflow,
+            min_lim,
+        })
+    }
+
+    /// Blends the layer of the search's closest disk: the candidates within its band, or, when
+    /// they may be incomplete, the disks a second traversal of the band finds.
+    #[inline(always)]
+    fn blend_layer(&self, ray: &Ray, t_min: f32, t_max: f32, search: &LayerSearch) -> SurfaceHit {
+        let order = &self.bvh.order;
+        let (slot0, t0, d2) = search.best;
         let d0 = &self.disks[slot0 as usize];
         let mut sum = LayerSum::new(
             t0,
@@ -171,7 +175,7 @@ impl SplatGeometry {
             }
         };
         if t_end > t0 {
-            if overflow || t_end > min_lim {
+            if search.overflow || t_end > search.min_lim {
                 self.bvh.visit_segment(ray, t0, t_end, |s| {
                     let d = &self.disks[s as usize];
                     if s != slot0
@@ -182,7 +186,7 @@ impl SplatGeometry {
                     }
                 });
             } else {
-                for &(s, t, d2) in &cands[..nc] {
+                for &(s, t, d2) in &search.cands[..search.nc] {
                     if t < t_end {
                         add(s, t, d2);
                     }
@@ -190,7 +194,7 @@ impl SplatGeometry {
             }
         }
         let b = sum.finish();
-        Some(SurfaceHit {
+        SurfaceHit {
             t: b.t,
             t_exit: b.t_exit,
             position: ray.at(b.t),
@@ -198,79 +202,35 @@ impl SplatGeometry {
             thickness_nm: b.thickness_nm,
             coverage: b.coverage,
             particle: b.particle,
-        })
+        }
     }
+}
 
-    /// Sphere packets of the slots `first .. first + count`: (first slot, four spheres, lanes in
-    /// range). The sphere array is padded, so four spheres can be read from any slot.
-    #[inline(always)]
-    fn sphere_packets(
-        &self,
-        (first, count): (u32, u32),
-    ) -> impl Iterator<Item = (usize, &[SpherePrim; 4], usize)> {
-        let end = first as usize + count as usize;
-        (first as usize..end)
-            .step_by(4)
-            .filter_map(move |s| Some((s, self.spheres[s..].first_chunk::<4>()?, (end - s).min(4))))
+/// Appends candidate `c` to `cands[..*nc]`; when the buffer is full, first drops the
+/// candidates beyond the current band end `keep` (if the band grows again later, `min_lim`
+/// sends the query to the exact fallback). Returns false if `c` still did not fit.
+#[inline]
+fn push_candidate(
+    cands: &mut [DiskHit; MAX_CANDIDATES],
+    nc: &mut usize,
+    c: DiskHit,
+    keep: f32,
+) -> bool {
+    if *nc == MAX_CANDIDATES {
+        let mut k = 0;
+        for i in 0..*nc {
+            if cands[i].1 <= keep {
+                cands[k] = cands[i];
+                k += 1;
+            }
+        }
+        *nc = k;
     }
-
-    /// True if any sphere is crossed with `t_min < t < t_max`.
-    pub(super) fn any_sphere(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let r4 = Ray4::new(ray);
-        self.bvh.any_leaves(ray, t_min, t_max, |first, count| {
-            self.sphere_packets((first, count))
-                .any(|(_, packet, lanes)| r4.test_spheres(packet, lanes, t_min, t_max).1 != 0)
-        })
-    }
-
-    /// Closest sphere crossing; ties in `t` go to the lowest particle index. Leaves are tested
-    /// four spheres at a time (`sphere4`, bit-identical to the scalar test), the hits then
-    /// handled in slot order as the scalar loop did.
-    pub(super) fn sphere_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let mut best: Option<(u32, f32)> = None;
-        let r4 = Ray4::new(ray);
-        // Inclusive of the current closest `t` (ties), as `intersect_sphere(.., hi)`.
-        let hi = |best: Option<(u32, f32)>, lim: f32| {
-            if best.is_some() { lim.next_up() } else { t_max }
-        };
-        self.bvh
-            .closest_leaves(ray, t_min, t_max, |first, count, lim| {
-                for (s, packet, lanes) in self.sphere_packets((first, count)) {
-                    let (t4, mut m) = r4.test_spheres(packet, lanes, t_min, hi(best, *lim));
-                    while m != 0 {
-                        let i = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let (slot, t) = ((s + i) as u32, t4[i]);
-                        if t < hi(best, *lim)
-                            && best.is_none_or(|(bs, bt)| t < bt || self.lower_particle(slot, bs))
-                        {
-                            best = Some((slot, t));
-                            *lim = t;
-                        }
-                    }
-                }
-            });
-        let (slot, t) = best?;
-        let p = &self.spheres[slot as usize];
-        let position = ray.at(t);
-        // A sphere is one film crossing: the ray leaves it at the far root (for a ray that
-        // starts inside, the hit is already that root).
-        let t_exit = sphere_roots(ray, p.center, p.radius).map_or(t, |(_, far)| far.max(t));
-        Some(SurfaceHit {
-            t,
-            t_exit,
-            position,
-            normal: (position - p.center).normalize_or_zero(),
-            thickness_nm: p.thickness,
-            coverage: 1,
-            particle: self.bvh.order[slot as usize],
-        })
-    }
-
-    /// Tie-break between two hits at the same distance: true if slot `a` holds the lower particle
-    /// index. Only evaluated on exact ties, so the slot order is rarely touched during traversal.
-    #[inline]
-    fn lower_particle(&self, a: u32, b: u32) -> bool {
-        self.bvh.order[a as usize] < self.bvh.order[b as usize]
+    if *nc < MAX_CANDIDATES {
+        cands[*nc] = c;
+        *nc += 1;
+        true
+    } else {
+        false
     }
 }
