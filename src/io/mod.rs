@@ -38,7 +38,7 @@ mod melp;
 pub mod melp_folder;
 mod num;
 pub mod obj;
-mod parts;
+mod part;
 mod peek;
 pub mod ply;
 pub mod pvd;
@@ -52,9 +52,9 @@ mod write_ply;
 mod xml;
 
 pub use obj::read_mesh;
-pub use parts::{CloudPart, PartKind, read_parts};
+pub use part::{CloudPart, PartKind};
 pub use peek::{CountHint, peek_count};
-pub use read::{read_as, read_bytes, read_cloud, read_cloud_described};
+pub use read::{read_as, read_bytes, read_cloud, read_cloud_described, read_parts, read_timestep};
 pub use write_ply::{write_mesh_ply, write_ply};
 
 use std::io::Read;
@@ -227,7 +227,7 @@ pub enum CloudFormat {
     /// A MELP foam frame folder (`l_tracker_points_R`, `l_h_bin_R`, ... per bubble R), read by
     /// [`melp_folder::read_parts`].
     MelpFolder,
-    /// A ParaView `.pvd` collection of VTK XML files, read by [`pvd::read_parts`].
+    /// A ParaView `.pvd` collection of VTK XML files, read by [`read_timestep`].
     Pvd,
 }
 

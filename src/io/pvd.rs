@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use super::columns::show;
 use super::xml::Scanner;
-use super::{CloudPart, ReadOptions, format_error, read_file};
+use super::{format_error, read_file};
 use crate::error::Result;
 
 /// Name used in error messages.
@@ -88,20 +88,13 @@ pub fn timesteps(path: &Path) -> Result<Vec<(f64, Vec<PathBuf>)>> {
     Ok(out)
 }
 
-/// The parts of every data set of the collection's first timestep.
+/// The data files of the collection's `k`-th timestep (0-based); read them with
+/// [`super::read_timestep`].
 ///
 /// # Errors
-/// As [`timesteps`], and as the data sets' readers; a collection naming another collection
-/// is refused.
-pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
-    read_timestep(path, 0, opts)
-}
-
-/// The parts of every data set of the collection's `k`-th timestep (0-based).
-///
-/// # Errors
-/// As [`read_parts`]; `k` past the last timestep is an error naming the count.
-pub fn read_timestep(path: &Path, k: usize, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
+/// As [`timesteps`]; `k` past the last timestep is an error naming the count, and a collection
+/// naming another collection is refused.
+pub fn timestep_files(path: &Path, k: usize) -> Result<Vec<PathBuf>> {
     let steps = timesteps(path)?;
     let Some((_, files)) = steps.get(k) else {
         return Err(format_error(
@@ -110,16 +103,15 @@ pub fn read_timestep(path: &Path, k: usize, opts: &ReadOptions) -> Result<Vec<Cl
             format!("timestep {k} asked for, the collection has {}", steps.len()),
         ));
     };
-    let mut parts = Vec::new();
-    for f in files {
-        if f.extension().is_some_and(|e| e.eq_ignore_ascii_case("pvd")) {
-            return Err(format_error(
-                path,
-                FORMAT,
-                format!("names another collection, {}", f.display()),
-            ));
-        }
-        parts.extend(super::read_parts(f, opts)?);
+    if let Some(f) = files
+        .iter()
+        .find(|f| f.extension().is_some_and(|e| e.eq_ignore_ascii_case("pvd")))
+    {
+        return Err(format_error(
+            path,
+            FORMAT,
+            format!("names another collection, {}", f.display()),
+        ));
     }
-    Ok(parts)
+    Ok(files.clone())
 }

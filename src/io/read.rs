@@ -4,9 +4,10 @@
 
 use std::path::Path;
 
+use super::part::{CloudPart, film_of};
 use super::{
     CloudFormat, ReadOptions, StoredAttribute, bgeo, by_content, csv, detect_format, format_error,
-    frame_folder, input, parts, ply, read_file, read_parts, vtk, vtu,
+    frame_folder, input, melp_folder, ply, pvd, read_file, snapshot, vtk, vtu,
 };
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
@@ -83,6 +84,47 @@ pub fn read_bytes(
     parse_bytes(format, bytes, path, opts)
 }
 
+/// Reads every particle set of `path` (a file, a frame or snapshot folder of the thin-film SPH
+/// code, a MELP foam frame folder, or a `.pvd` collection). Single-set formats give one film
+/// part. Parts may be empty (a film that has fully ruptured).
+///
+/// # Errors
+/// As [`read_cloud`].
+pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
+    // A pipe or standard input is read once, by the single-set readers.
+    let format = if input::is_stream(path) {
+        CloudFormat::Ply
+    } else {
+        detect_format(path)?
+    };
+    match format {
+        CloudFormat::FrameFolder => frame_folder::read_parts(path, opts),
+        CloudFormat::SnapshotFolder => snapshot::read_parts(path, opts),
+        CloudFormat::MelpFolder => melp_folder::read_parts(path, opts),
+        CloudFormat::Pvd => read_timestep(path, 0, opts),
+        _ => {
+            let (cloud, stored) = read_cloud_described(path, opts)?;
+            Ok(vec![CloudPart::film(
+                path.display().to_string(),
+                cloud,
+                stored,
+            )])
+        }
+    }
+}
+
+/// The parts of every data set of the `.pvd` collection's `k`-th timestep (0-based).
+///
+/// # Errors
+/// As [`pvd::timestep_files`] and the data sets' readers.
+pub fn read_timestep(path: &Path, k: usize, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
+    let mut parts = Vec::new();
+    for f in pvd::timestep_files(path, k)? {
+        parts.extend(read_parts(&f, opts)?);
+    }
+    Ok(parts)
+}
+
 /// [`read_as`] with the options checked.
 fn read_checked(format: CloudFormat, path: &Path, opts: &ReadOptions) -> Result<Described> {
     match format {
@@ -90,7 +132,7 @@ fn read_checked(format: CloudFormat, path: &Path, opts: &ReadOptions) -> Result<
         CloudFormat::Ply => ply::read_file(path, opts),
         CloudFormat::FrameFolder => frame_folder::read_checked(path, opts),
         CloudFormat::SnapshotFolder | CloudFormat::MelpFolder | CloudFormat::Pvd => {
-            Ok(parts::film_of(read_parts(path, opts)?))
+            Ok(film_of(read_parts(path, opts)?))
         }
         f => parse_bytes(f, &read_file(path)?, path, opts),
     }

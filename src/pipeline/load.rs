@@ -4,6 +4,7 @@
 
 use super::config::FilmConfig;
 use super::prepared::Note;
+pub use super::sample_check::check_sample_params;
 use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud, read_parts};
 use crate::optics::check_film_params;
@@ -25,35 +26,6 @@ pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
     unit.parse::<ThicknessUnit>()
         .map(ThicknessUnit::nm_per_unit)
         .map_err(Error::invalid)
-}
-
-/// Checks a sample's parameters (`prefix` names where they came from: "input." in scene
-/// files, "--" on the command line): particles in 1..=50 000 000, a finite time, a sparse
-/// fraction in (0, 1].
-pub fn check_sample_params(p: &SampleParams, sparse: Option<f64>, prefix: &str) -> Result<()> {
-    if p.particles == 0 || p.particles > 50_000_000 {
-        return Err(Error::invalid(format!(
-            "{prefix}particles must be 1..=50000000, got {}",
-            p.particles
-        )));
-    }
-    // The generated cloud's arrays (positions, normals, thickness, radius) and the generator's
-    // scratch: ~64 bytes a particle.
-    crate::budget::check(p.particles as u64 * 64, || {
-        format!("{prefix}particles = {}", p.particles)
-    })
-    .map_err(Error::invalid)?;
-    if !p.time.is_finite() {
-        return Err(Error::invalid(format!("{prefix}time must be finite")));
-    }
-    if let Some(f) = sparse
-        && !(f > 0.0 && f <= 1.0)
-    {
-        return Err(Error::invalid(format!(
-            "{prefix}sparse must be a fraction in (0, 1], got {f}"
-        )));
-    }
-    Ok(())
 }
 
 /// How the scene's input files are read: attribute names and the thickness unit (without an

@@ -145,7 +145,7 @@ pub fn estimate_scene(desc: &SceneDesc, base: &Path, exr: bool) -> Result<Memory
                 particles: n,
                 ..Default::default()
             };
-            super::load::check_sample_params(&p, None, "input.")?;
+            super::sample_check::check_sample_params(&p, None, "input.")?;
             Ok(MemoryEstimate::new(n as u64, width, height, exr, 0))
         }
         None => Err(Error::invalid(

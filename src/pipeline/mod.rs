@@ -20,6 +20,7 @@ mod output;
 mod prepared;
 #[cfg(feature = "reconstruct")]
 pub mod reconstruct;
+mod sample_check;
 pub mod sequence;
 mod studio;
 

@@ -354,17 +354,9 @@ pub fn fill_missing(cloud: &mut PointCloud, opts: &EstimateOptions) -> EstimateR
     fill_missing_keeping_table(cloud, opts).0
 }
 
-/// [`fill_missing`], also handing back the kNN table it built (if it needed one), so a caller
-/// that needs neighbours too (e.g. the curvature estimate) does not search them again.
-pub fn fill_missing_keeping_table(
-    cloud: &mut PointCloud,
-    opts: &EstimateOptions,
-) -> (EstimateReport, Option<KnnTable>) {
+/// Drops normals or radii whose count does not match the particles', with a note.
+fn drop_mismatched(cloud: &mut PointCloud, report: &mut EstimateReport) {
     let n = cloud.len();
-    let mut report = EstimateReport {
-        particles: n,
-        ..Default::default()
-    };
     if let Some(v) = &cloud.normals
         && v.len() != n
     {
@@ -383,6 +375,20 @@ pub fn fill_missing_keeping_table(
         ));
         cloud.radius = None;
     }
+}
+
+/// [`fill_missing`], also handing back the kNN table it built (if it needed one), so a caller
+/// that needs neighbours too (e.g. the curvature estimate) does not search them again.
+pub fn fill_missing_keeping_table(
+    cloud: &mut PointCloud,
+    opts: &EstimateOptions,
+) -> (EstimateReport, Option<KnnTable>) {
+    let n = cloud.len();
+    let mut report = EstimateReport {
+        particles: n,
+        ..Default::default()
+    };
+    drop_mismatched(cloud, &mut report);
     let need_normal: Vec<bool> = match &cloud.normals {
         None => vec![true; n],
         Some(v) => v.iter().map(|m| m.try_normalize().is_none()).collect(),

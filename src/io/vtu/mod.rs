@@ -56,7 +56,7 @@ fn into_cloud(
         }
         Some(melp::Writer::Particles) => {
             let (mut cloud, mut stored) = c.into_cloud(opts, &melp::PARTICLE_ALIASES)?;
-            super::parts::radius_from_area(&mut cloud, &mut stored, "SA", opts);
+            super::part::radius_from_area(&mut cloud, &mut stored, "SA", opts);
             Ok((cloud, stored))
         }
     }

@@ -1,11 +1,9 @@
-//! Inputs that hold several particle sets: a thin-film SPH frame folder holds the film and,
-//! once it has ruptured, the droplets it shed; a MELP foam frame holds one film per bubble;
-//! a `.pvd` collection names several files. [`read_parts`] reads any input into its parts.
+//! One particle set of an input, and what it is. Inputs that hold several sets: a thin-film
+//! SPH frame folder holds the film and, once it has ruptured, the droplets it shed; a MELP
+//! foam frame holds one film per bubble; a `.pvd` collection names several files.
+//! [`super::read_parts`] reads any input into its parts.
 
-use std::path::Path;
-
-use super::{CloudFormat, ReadOptions, StoredAttribute, detect_format, read_cloud_described};
-use crate::error::Result;
+use super::{ReadOptions, StoredAttribute};
 use crate::pointcloud::PointCloud;
 
 /// What the particles of a part are.
@@ -52,35 +50,6 @@ impl CloudPart {
             cloud,
             stored,
             notes: Vec::new(),
-        }
-    }
-}
-
-/// Reads every particle set of `path` (a file, a frame or snapshot folder of the thin-film SPH
-/// code, a MELP foam frame folder, or a `.pvd` collection). Single-set formats give one film
-/// part. Parts may be empty (a film that has fully ruptured).
-///
-/// # Errors
-/// As [`super::read_cloud`].
-pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
-    // A pipe or standard input is read once, by the single-set readers.
-    let format = if super::input::is_stream(path) {
-        CloudFormat::Ply
-    } else {
-        detect_format(path)?
-    };
-    match format {
-        CloudFormat::FrameFolder => super::frame_folder::read_parts(path, opts),
-        CloudFormat::SnapshotFolder => super::snapshot::read_parts(path, opts),
-        CloudFormat::MelpFolder => super::melp_folder::read_parts(path, opts),
-        CloudFormat::Pvd => super::pvd::read_parts(path, opts),
-        _ => {
-            let (cloud, stored) = read_cloud_described(path, opts)?;
-            Ok(vec![CloudPart::film(
-                path.display().to_string(),
-                cloud,
-                stored,
-            )])
         }
     }
 }
