@@ -120,7 +120,12 @@ fn frames(a: &RenderArgs) -> Result<Frames> {
         let base = a.clone();
         let labels = matches
             .iter()
-            .map(|m| m.file_stem().unwrap_or_default().to_string_lossy().into_owned())
+            .map(|m| {
+                m.file_stem()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned()
+            })
             .collect();
         return Ok(Frames {
             labels,
@@ -160,7 +165,13 @@ pub fn run(v: &ViewArgs, out: &mut dyn Write) -> Result<()> {
         let _ = writeln!(out, "{s}");
         let _ = out.flush();
     };
-    say(out, format!("filmsplat view: preparing {} ...", PathBuf::from(&frames.title).display()));
+    say(
+        out,
+        format!(
+            "filmsplat view: preparing {} ...",
+            PathBuf::from(&frames.title).display()
+        ),
+    );
     let budget = v
         .cache_memory
         .unwrap_or_else(|| crate::budget::allowance_bytes() / 2);
@@ -178,8 +189,10 @@ pub fn run(v: &ViewArgs, out: &mut dyn Write) -> Result<()> {
     say(
         out,
         format!(
-            "filmsplat view: {count} frame(s); open this URL in a browser (the token in it is the key):\n    {}\n\
-             on another machine, first: ssh -L {p}:localhost:{p} {host}; Ctrl-C stops the server",
+            "filmsplat view: {count} frame(s), {} particles in the first; Ctrl-C stops the server\n\
+             from another machine, tunnel first: ssh -L {p}:localhost:{p} {host}\n\
+             open this URL in a browser (the token in it is the key):\n    {}",
+            server.app().particles,
             server.url(),
             p = local.port(),
             host = hostname(),

@@ -4,11 +4,12 @@
 use super::engine::{self, Defaults};
 use super::http::{Request, Response};
 use super::params::{self, MAX_SAVE_SIDE, MAX_SIDE, Pass, Refusal, ViewCamera};
-use super::session::{Session, SceneFn};
+use super::session::{SceneFn, Session};
 use super::token::Token;
 use super::watch::Watcher;
 use crate::scene::SceneDesc;
 use std::net::TcpStream;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 /// The page, assembled from its parts at start-up.
@@ -40,6 +41,8 @@ pub struct App {
     labels: Vec<String>,
     /// The connection's read timeout, restored after a watched render.
     pub request_timeout: Option<Duration>,
+    /// Film particles of the first frame.
+    pub particles: usize,
 }
 
 /// `s` as a JSON string literal.
@@ -113,7 +116,11 @@ impl App {
         }
         let (first, base) = (frames.scene)(0)?;
         let defaults = engine::defaults(&first);
-        let Frames { labels, scene, title } = frames;
+        let Frames {
+            labels,
+            scene,
+            title,
+        } = frames;
         let session = Session::new(scene, n, budget);
         let variant = params::Variant {
             frame: 0,
@@ -142,6 +149,7 @@ impl App {
             title,
             labels,
             request_timeout: Some(Duration::from_secs(10)),
+            particles: built.particles,
         })
     }
 
@@ -170,15 +178,30 @@ impl App {
                 );
             }
             Some(t) if !self.token.matches(t) => {
-                return Response::error(403, "wrong token: open the URL that `filmsplat view` printed");
+                return Response::error(
+                    403,
+                    "wrong token: open the URL that `filmsplat view` printed",
+                );
             }
             Some(_) => {}
         }
         let result = match req.path.as_str() {
-            "/" | "/index.html" => Ok(Response::new(200, "text/html; charset=utf-8", self.page.as_str())),
-            "/api/scene" => Ok(Response::new(200, "application/json", self.scene_json.as_str())),
+            "/" | "/index.html" => Ok(Response::new(
+                200,
+                "text/html; charset=utf-8",
+                self.page.as_str(),
+            )),
+            "/api/scene" => Ok(Response::new(
+                200,
+                "application/json",
+                self.scene_json.as_str(),
+            )),
             "/api/camera" => params::camera(req).map(|c| {
-                Response::new(200, "text/plain; charset=utf-8", engine::camera_lines(&self.first, &c))
+                Response::new(
+                    200,
+                    "text/plain; charset=utf-8",
+                    engine::camera_lines(&self.first, &c),
+                )
             }),
             "/api/render" => self.picture(req, peer, false),
             "/api/save" => self.picture(req, peer, true),
@@ -188,7 +211,12 @@ impl App {
     }
 
     /// A picture (`save`: the full-quality download).
-    fn picture(&self, req: &Request, peer: Option<&TcpStream>, save: bool) -> Result<Response, Refusal> {
+    fn picture(
+        &self,
+        req: &Request,
+        peer: Option<&TcpStream>,
+        save: bool,
+    ) -> Result<Response, Refusal> {
         let max = if save { MAX_SAVE_SIDE } else { MAX_SIDE };
         let mut job = params::job(req, self.session.frames(), max)?;
         if save {
@@ -198,10 +226,19 @@ impl App {
         let client = params::client(req)?;
         let cancel = self.session.begin(client.as_deref());
         let built = self.session.built(&job.variant)?;
-        let picture = {
+        let stats = &self.session.stats;
+        stats.active.fetch_add(1, Ordering::SeqCst);
+        let rendered = {
             let _watch = Watcher::start(peer, cancel.clone(), self.request_timeout);
-            engine::render(&built, &job, cancel).map_err(|e| super::session::refusal(&e))?
+            engine::render(&built, &job, cancel)
         };
+        stats.active.fetch_sub(1, Ordering::SeqCst);
+        let counter = match &rendered {
+            Err(crate::Error::Cancelled) => &stats.cancelled,
+            _ => &stats.rendered,
+        };
+        counter.fetch_add(1, Ordering::SeqCst);
+        let picture = rendered.map_err(|e| super::session::refusal(&e))?;
         let png = picture.png(job.pass == Pass::Move).map_err(|m| (500, m))?;
         let mut resp = Response::new(200, "image/png", png)
             .with("X-Spp", picture.spp.to_string())
@@ -210,13 +247,22 @@ impl App {
         if save {
             let safe = |s: &str| -> String {
                 s.chars()
-                    .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+                    .map(|c| {
+                        if c.is_ascii_alphanumeric() || c == '-' {
+                            c
+                        } else {
+                            '_'
+                        }
+                    })
                     .collect()
             };
             let (stem, frame) = (safe(&self.title), safe(&self.labels[job.variant.frame]));
             resp = resp.with(
                 "Content-Disposition",
-                format!("attachment; filename=\"{stem}-{frame}-{}x{}.png\"", job.width, job.height),
+                format!(
+                    "attachment; filename=\"{stem}-{frame}-{}x{}.png\"",
+                    job.width, job.height
+                ),
             );
         }
         Ok(resp)

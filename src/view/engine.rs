@@ -196,11 +196,17 @@ pub fn render(built: &Built, job: &Job, cancel: Arc<AtomicBool>) -> Result<Pictu
     let t = Instant::now();
     let rgb8 = if let Some(v) = pipeline::render_view(&p)? {
         let data = v.rgb.iter().map(|c| c.to_array()).collect();
-        to_srgb8(&RgbImage::from_data(v.width, v.height, data)?, 0.0, ToneMap::Clamp)
+        to_srgb8(
+            &RgbImage::from_data(v.width, v.height, data)?,
+            0.0,
+            ToneMap::Clamp,
+        )
     } else {
         let out = pipeline::render(&p)?;
         let data = out.rgb.iter().map(|c| c.to_array()).collect();
-        let img = p.grade.apply(&RgbImage::from_data(out.width, out.height, data)?);
+        let img = p
+            .grade
+            .apply(&RgbImage::from_data(out.width, out.height, data)?);
         to_srgb8(&img, job.exposure.unwrap_or(p.exposure), p.tonemap)
     };
     Ok(Picture {
@@ -234,10 +240,7 @@ pub fn attribute_names(desc: &SceneDesc, base: &Path) -> Result<Vec<String>> {
     }
     let parts = pipeline::load_parts(&d, base)?;
     let mut names: Vec<String> = vec!["thickness".into(), "radius".into()];
-    for part in parts
-        .iter()
-        .filter(|p| p.kind == crate::io::PartKind::Film)
-    {
+    for part in parts.iter().filter(|p| p.kind == crate::io::PartKind::Film) {
         for (name, _) in &part.cloud.extra {
             let vector = name
                 .strip_suffix("_x")

@@ -142,10 +142,20 @@ pub fn read_request(r: &mut impl BufRead) -> Result<Request, ReadError> {
     let http11 = match version {
         "HTTP/1.1" => true,
         "HTTP/1.0" => false,
-        _ => return Err(ReadError::bad(505, format!("unsupported version '{version}'"))),
+        _ => {
+            return Err(ReadError::bad(
+                505,
+                format!("unsupported version '{version}'"),
+            ));
+        }
     };
     let headers = read_headers(r)?;
-    let header = |n: &str| headers.iter().find(|(k, _)| k == n).map(|(_, v)| v.as_str());
+    let header = |n: &str| {
+        headers
+            .iter()
+            .find(|(k, _)| k == n)
+            .map(|(_, v)| v.as_str())
+    };
     if header("transfer-encoding").is_some() {
         return Err(ReadError::bad(501, "request bodies are not accepted"));
     }
@@ -195,9 +205,7 @@ fn read_headers(r: &mut impl BufRead) -> Result<Vec<(String, String)>, ReadError
         if total > MAX_HEADER_BYTES || headers.len() >= MAX_HEADERS {
             return Err(ReadError::bad(
                 431,
-                format!(
-                    "request headers exceed {MAX_HEADERS} lines or {MAX_HEADER_BYTES} bytes"
-                ),
+                format!("request headers exceed {MAX_HEADERS} lines or {MAX_HEADER_BYTES} bytes"),
             ));
         }
         let (name, value) = line
@@ -330,10 +338,12 @@ pub fn write_response(
         head += &format!("{k}: {v}\r\n");
     }
     head += "\r\n";
-    w.write_all(head.as_bytes())?;
+    // One write: the head and the body leave in the same packets.
+    let mut all = head.into_bytes();
     if !head_only {
-        w.write_all(&resp.body)?;
+        all.extend_from_slice(&resp.body);
     }
+    w.write_all(&all)?;
     w.flush()
 }
 
@@ -374,8 +384,14 @@ mod tests {
         assert_eq!(status("GARBAGE\r\n\r\n"), 400);
         assert_eq!(status("GET / HTTP/2.0\r\n\r\n"), 505);
         assert_eq!(status("POST / HTTP/1.1\r\n\r\n"), 405);
-        assert_eq!(status("GET / HTTP/1.1\r\nContent-Length: 5\r\n\r\nhello"), 413);
-        assert_eq!(status("GET / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n"), 501);
+        assert_eq!(
+            status("GET / HTTP/1.1\r\nContent-Length: 5\r\n\r\nhello"),
+            413
+        );
+        assert_eq!(
+            status("GET / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n"),
+            501
+        );
         assert_eq!(status("GET http://x/ HTTP/1.1\r\n\r\n"), 400);
         assert_eq!(status("GET /%zz HTTP/1.1\r\n\r\n"), 400);
         assert_eq!(status("GET /?a=%ff HTTP/1.1\r\n\r\n"), 400);
@@ -383,7 +399,9 @@ mod tests {
         assert_eq!(status("GET / HTTP/1.1\r\nHost: x\r\n"), 400);
         let long = format!("GET /{} HTTP/1.1\r\n\r\n", "a".repeat(MAX_LINE + 10));
         assert_eq!(status(&long), 431);
-        let many: String = (0..MAX_HEADERS + 1).map(|i| format!("h{i}: v\r\n")).collect();
+        let many: String = (0..MAX_HEADERS + 1)
+            .map(|i| format!("h{i}: v\r\n"))
+            .collect();
         assert_eq!(status(&format!("GET / HTTP/1.1\r\n{many}\r\n")), 431);
         let params: String = (0..MAX_PARAMS + 1).map(|i| format!("p{i}=1&")).collect();
         assert_eq!(status(&format!("GET /?{params} HTTP/1.1\r\n\r\n")), 414);

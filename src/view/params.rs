@@ -96,7 +96,9 @@ fn vec3(req: &Request, key: &str) -> Result<[f32; 3], Refusal> {
         .map_err(|_| bad(format!("{key}: '{s}' is not three numbers x,y,z")))?;
     match v.as_slice() {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([*x, *y, *z]),
-        _ => Err(bad(format!("{key}: '{s}' is not three finite numbers x,y,z"))),
+        _ => Err(bad(format!(
+            "{key}: '{s}' is not three finite numbers x,y,z"
+        ))),
     }
 }
 
@@ -181,12 +183,13 @@ pub fn client(req: &Request) -> Result<Option<String>, Refusal> {
         None => Ok(None),
         Some(c)
             if (1..=64).contains(&c.len())
-                && c.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_') =>
+                && c.bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_') =>
         {
             Ok(Some(c.to_string()))
         }
         Some(_) => Err(bad(
-            "client: 1 to 64 letters, digits, '-' or '_'".to_string(),
+            "client: 1 to 64 letters, digits, '-' or '_'".to_string()
         )),
     }
 }
@@ -257,7 +260,14 @@ mod tests {
 
     #[test]
     fn a_full_request_gives_its_job() {
-        let j = job(&req(&format!("{OK}&view=attribute:vrt&pass=move&preset=final&exposure=-1.5")), 3, MAX_SIDE).unwrap();
+        let j = job(
+            &req(&format!(
+                "{OK}&view=attribute:vrt&pass=move&preset=final&exposure=-1.5"
+            )),
+            3,
+            MAX_SIDE,
+        )
+        .unwrap();
         assert_eq!(j.camera.position, [0.0, 0.0, 3.0]);
         assert_eq!((j.width, j.height, j.pass), (96, 54, Pass::Move));
         assert_eq!(j.variant.frame, 1);

@@ -48,7 +48,9 @@ mod tests {
     #[test]
     fn both_encodings_decode_to_the_same_pixels() {
         let (width, height) = (7, 3);
-        let rgb8: Vec<u8> = (0..width * height * 3).map(|i| (i * 37 % 256) as u8).collect();
+        let rgb8: Vec<u8> = (0..width * height * 3)
+            .map(|i| (i * 37 % 256) as u8)
+            .collect();
         let p = Picture {
             width,
             height,

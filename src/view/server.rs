@@ -23,6 +23,7 @@ pub struct Server {
     listener: TcpListener,
     app: Arc<App>,
     active: Arc<AtomicUsize>,
+    refusing: Arc<AtomicUsize>,
     stop: Arc<AtomicBool>,
 }
 
@@ -42,6 +43,7 @@ impl Server {
             listener,
             app: Arc::new(app),
             active: Arc::new(AtomicUsize::new(0)),
+            refusing: Arc::new(AtomicUsize::new(0)),
             stop,
         })
     }
@@ -95,12 +97,7 @@ impl Server {
         let _ = stream.set_nonblocking(false);
         let _ = stream.set_nodelay(true);
         if self.active.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
-            let busy = Response::error(
-                503,
-                &format!("too many connections (at most {MAX_CONNECTIONS}); try again"),
-            );
-            let _ = stream.set_write_timeout(Some(Duration::from_secs(1)));
-            let _ = write_response(&mut &stream, &busy, false, false);
+            self.refuse_busy(stream);
             return;
         }
         self.active.fetch_add(1, Ordering::SeqCst);
@@ -117,13 +114,40 @@ impl Server {
     }
 }
 
+impl Server {
+    /// Answers 503 on a thread of its own (at most [`MAX_CONNECTIONS`] such; beyond, the
+    /// connection is dropped): reads what the client sent first, so closing does not reset
+    /// the connection before the client reads the answer.
+    fn refuse_busy(&self, stream: TcpStream) {
+        if self.refusing.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
+            self.refusing.fetch_sub(1, Ordering::SeqCst);
+            return;
+        }
+        let refusing = self.refusing.clone();
+        let spawned = std::thread::Builder::new()
+            .name("filmsplat-view-busy".into())
+            .spawn(move || {
+                let busy = Response::error(
+                    503,
+                    &format!("too many connections (at most {MAX_CONNECTIONS}); try again"),
+                );
+                let _ = stream.set_read_timeout(Some(Duration::from_millis(500)));
+                let _ = stream.set_write_timeout(Some(Duration::from_secs(1)));
+                let mut reader = BufReader::new(&stream);
+                let _ = read_request(&mut reader);
+                let _ = write_response(&mut &stream, &busy, false, false);
+                let _ = stream.shutdown(std::net::Shutdown::Write);
+                refusing.fetch_sub(1, Ordering::SeqCst);
+            });
+        if spawned.is_err() {
+            self.refusing.fetch_sub(1, Ordering::SeqCst);
+        }
+    }
+}
+
 /// Waits until a request starts on `stream` (true) or the peer closes it, it idles for
 /// [`IDLE`] or the server stops (false).
-fn wait_for_request(
-    stream: &TcpStream,
-    reader: &BufReader<TcpStream>,
-    stop: &AtomicBool,
-) -> bool {
+fn wait_for_request(stream: &TcpStream, reader: &BufReader<TcpStream>, stop: &AtomicBool) -> bool {
     if !reader.buffer().is_empty() {
         return true;
     }
@@ -164,7 +188,9 @@ fn connection(stream: &TcpStream, app: &App, stop: &AtomicBool) {
             Ok(r) => r,
             Err(ReadError::Closed) => return,
             Err(ReadError::Bad(status, message)) => {
-                let _ = write_response(&mut &*stream, &Response::error(status, &message), false, false);
+                let resp = Response::error(status, &message);
+                let _ = write_response(&mut &*stream, &resp, false, false);
+                drain(stream, &mut reader);
                 return;
             }
         };
@@ -172,6 +198,23 @@ fn connection(stream: &TcpStream, app: &App, stop: &AtomicBool) {
         let keep = req.keep_alive && !stop.load(Ordering::Relaxed);
         if write_response(&mut &*stream, &resp, req.method == "HEAD", keep).is_err() || !keep {
             return;
+        }
+    }
+}
+
+/// Before closing after a refused request: stops writing and reads (briefly, at most 1 MiB) what
+/// the client still sends, so the close does not reset the connection before the client has
+/// read the answer.
+fn drain(stream: &TcpStream, reader: &mut BufReader<TcpStream>) {
+    use std::io::Read;
+    let _ = stream.shutdown(std::net::Shutdown::Write);
+    let _ = stream.set_read_timeout(Some(Duration::from_millis(200)));
+    let mut buf = [0u8; 8192];
+    let mut total = 0;
+    while total < 1 << 20 {
+        match reader.read(&mut buf) {
+            Ok(0) | Err(_) => return,
+            Ok(n) => total += n,
         }
     }
 }

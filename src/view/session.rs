@@ -26,8 +26,24 @@ struct Slot {
     used: AtomicU64,
 }
 
+/// What a session has done so far (for tests, benches and the status line).
+#[derive(Debug, Default)]
+pub struct Stats {
+    /// Variants prepared.
+    pub builds: AtomicU64,
+    /// Pictures rendered to the end.
+    pub rendered: AtomicU64,
+    /// Pictures cancelled (by a newer one of the same client, a closed connection or the
+    /// server stopping).
+    pub cancelled: AtomicU64,
+    /// Pictures rendering now.
+    pub active: AtomicU64,
+}
+
 /// Prepared variants and client flags.
 pub struct Session {
+    /// Counters.
+    pub stats: Stats,
     scene: Box<SceneFn>,
     frames: usize,
     budget: u64,
@@ -55,6 +71,7 @@ impl Session {
     /// their estimated memory stays below `budget` bytes (the most recent one is always kept).
     pub fn new(scene: Box<SceneFn>, frames: usize, budget: u64) -> Session {
         Session {
+            stats: Stats::default(),
             scene,
             frames,
             budget,
@@ -95,6 +112,7 @@ impl Session {
             .and_then(|(desc, base)| engine::build(&desc, &base, v).map_err(|e| refusal(&e)));
         match result {
             Ok(b) => {
+                self.stats.builds.fetch_add(1, Ordering::Relaxed);
                 let b = Arc::new(b);
                 *built = Some(b.clone());
                 drop(built);
@@ -145,15 +163,14 @@ impl Session {
     }
 
     /// A cancel flag for a new picture of `client`, raising the flag of the client's previous
-    /// picture (a request without a client gets a flag of its own).
+    /// picture (a request without a client is a client of its own).
     pub fn begin(&self, client: Option<&str>) -> Arc<AtomicBool> {
         let flag = Arc::new(AtomicBool::new(false));
-        let Some(c) = client else {
-            return flag;
-        };
         let now = self.clock.fetch_add(1, Ordering::Relaxed);
+        // `#` cannot start a client's name (see params::client).
+        let key = client.map_or_else(|| format!("#{now}"), str::to_string);
         let mut clients = lock(&self.clients);
-        if let Some((_, old)) = clients.insert(c.to_string(), (now, flag.clone())) {
+        if let Some((_, old)) = clients.insert(key, (now, flag.clone())) {
             old.store(true, Ordering::Relaxed);
         }
         if clients.len() > MAX_CLIENTS

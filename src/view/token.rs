@@ -43,8 +43,8 @@ impl Token {
     pub fn matches(&self, given: &str) -> bool {
         let (a, b) = (self.0.as_bytes(), given.as_bytes());
         let mut diff = (a.len() != b.len()) as u8;
-        for i in 0..a.len() {
-            diff |= a[i] ^ b.get(i).copied().unwrap_or(0);
+        for (i, x) in a.iter().enumerate() {
+            diff |= x ^ b.get(i).copied().unwrap_or(0);
         }
         std::hint::black_box(diff) == 0
     }
@@ -67,7 +67,14 @@ mod tests {
     fn only_the_exact_token_matches() {
         let t = Token::fixed("0123abcd");
         assert!(t.matches("0123abcd"));
-        for wrong in ["", "0123abc", "0123abcd0", "1123abcd", "0123abce", "0123ABCD"] {
+        for wrong in [
+            "",
+            "0123abc",
+            "0123abcd0",
+            "1123abcd",
+            "0123abce",
+            "0123ABCD",
+        ] {
             assert!(!t.matches(wrong), "{wrong}");
         }
     }
