@@ -213,7 +213,7 @@ fn saving_gives_a_named_download_at_the_asked_size() {
     assert_eq!(r.header("x-spp"), Some("4"));
     assert_eq!(
         r.header("content-disposition"),
-        Some("attachment; filename=\"test_toml-1-80x30.png\"")
+        Some("attachment; filename=\"test-1-80x30.png\"")
     );
 }
 

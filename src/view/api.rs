@@ -256,7 +256,11 @@ impl App {
                     })
                     .collect()
             };
-            let (stem, frame) = (safe(&self.title), safe(&self.labels[job.variant.frame]));
+            let stem = std::path::Path::new(&self.title)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let (stem, frame) = (safe(&stem), safe(&self.labels[job.variant.frame]));
             resp = resp.with(
                 "Content-Disposition",
                 format!(
