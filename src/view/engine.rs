@@ -153,20 +153,28 @@ pub fn camera_lines(desc: &SceneDesc, cam: &ViewCamera) -> String {
     s
 }
 
-/// The sampling of `pass`: the prepared settings (`Final`), at 1 sample per pixel (`Draft`),
-/// and at most the preview preset's depth (`Move`).
+/// Film crossings followed while the camera moves: the front and the back wall of a bubble
+/// (at most 2; the preview preset follows 4). Depth dominates the cost of a small picture: on
+/// the bubble at 240×135, 2 crossings took 0.05 s where 4 took 0.12 s, and the picture only
+/// lacks the faint inner reflections, which come back as it refines.
+pub const MOVE_DEPTH: u32 = 2;
+
+/// The sampling of `pass`: the prepared settings (`Final`); 1 sample per pixel and at most the
+/// preview preset's depth and weight cut-off (`Draft`); and at most [`MOVE_DEPTH`] crossings
+/// (`Move`).
 fn pass_settings(base: &RenderSettings, job: &Job, cancel: Arc<AtomicBool>) -> RenderSettings {
     let mut s = base.clone();
     (s.width, s.height) = (job.width, job.height);
     s.progress = false;
     s.cancel = Some(cancel);
     if job.pass != Pass::Final {
-        s.spp = 1;
-    }
-    if job.pass == Pass::Move {
         let preview = Preset::Preview.values();
+        s.spp = 1;
         s.max_depth = s.max_depth.min(preview.max_depth);
         s.min_weight = s.min_weight.max(preview.min_weight);
+    }
+    if job.pass == Pass::Move {
+        s.max_depth = s.max_depth.min(MOVE_DEPTH);
     }
     s
 }

@@ -40,9 +40,9 @@ pub struct ViewCamera {
 /// How much work a picture gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Pass {
-    /// While the camera moves: 1 sample per pixel and the preview preset's depth.
+    /// While the camera moves: 1 sample per pixel, 2 film crossings.
     Move,
-    /// The first refinement: 1 sample per pixel at the preset's depth.
+    /// The first refinement: 1 sample per pixel, the preview preset's 4 crossings.
     Draft,
     /// The preset's quality: what `filmsplat render` renders for the same scene and camera.
     Final,

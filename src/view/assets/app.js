@@ -19,7 +19,7 @@ const st = {
   playing: false,
 };
 // What is on screen, for the status line and for tests.
-const shown = { version: -1, pass: '', width: 0, height: 0, ms: 0, spp: 0 };
+const shown = { version: -1, pass: '', width: 0, height: 0, ms: 0, spp: 0, moves: 0, log: [], releasedAt: 0 };
 window.filmsplat = { st, shown };
 
 // ---- vectors ----
@@ -125,7 +125,9 @@ async function fetchPicture(pass, scale, version) {
     }
     const blob = await r.blob();
     if (version !== st.version && pass !== 'move') return false;
-    await show(blob, pass, version, w, h, r.headers);
+    // A moving picture is decoded while the next one renders; a refined one before the next.
+    const showing = show(blob, pass, version, w, h, r.headers);
+    if (pass !== 'move') await showing;
     showError('');
     if (pass === 'move') {
       moveTimes.push(performance.now());
@@ -153,6 +155,9 @@ function show(blob, pass, version, w, h, headers) {
         version, pass, width: w, height: h,
         ms: Number(headers.get('X-Render-Ms')), spp: Number(headers.get('X-Spp')),
       });
+      if (pass === 'move') shown.moves++;
+      shown.log.push({ pass, at: performance.now() });
+      if (shown.log.length > 1000) shown.log.shift();
       img.dataset.pass = pass;
       img.dataset.version = version;
       img.dataset.frame = st.frame;
@@ -308,7 +313,7 @@ function wire() {
     if (dx === 0 && dy === 0) return;
     if (drag.pan || e.shiftKey) pan(dx, dy); else orbit(dx, dy);
   });
-  const end = () => { drag = null; stage.classList.remove('dragging'); };
+  const end = () => { if (drag) shown.releasedAt = performance.now(); drag = null; stage.classList.remove('dragging'); };
   stage.addEventListener('pointerup', end);
   stage.addEventListener('pointercancel', end);
   stage.addEventListener('contextmenu', (e) => e.preventDefault());
