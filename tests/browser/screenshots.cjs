@@ -9,13 +9,16 @@ const h = require('./harness.cjs');
 const OUT = path.join(__dirname, '..', '..', 'samples', 'images');
 
 (async () => {
-  const viewer = await h.startViewer([path.join(__dirname, '..', '..', 'samples', 'bubble.toml')]);
+  // Run from the checkout's root (run.sh is), so the page names the scene as a user types it.
+  const viewer = await h.startViewer(['samples/bubble.toml']);
   const browser = await h.launch({ width: 960, height: 540 });
   const { page } = browser;
   try {
     await page.goto(viewer.url);
     let shown = await h.waitFinal(page);
     await h.drag(page, [600, 300], [540, 320]);
+    shown = await h.waitFinal(page, Number(shown.version));
+    await h.drag(page, [600, 300], [690, 300], true);
     shown = await h.waitFinal(page, Number(shown.version));
     await page.screenshot({ path: path.join(OUT, 'view_shaded.png') });
     await page.selectOption('#view', 'thickness');

@@ -236,7 +236,7 @@ function setStatus(text) {
   if (text) { $('status').textContent = text; return; }
   const fps = moveTimes.length;
   $('status').textContent = `frame ${label()} · ${shown.pass} ${shown.width}×${shown.height} · ` +
-    `${shown.spp} spp · ${shown.ms.toFixed(0)} ms render` + (fps > 1 ? ` · ${fps} fps` : '');
+    `${shown.spp} spp · ${shown.ms.toFixed(0)} ms render` + (shown.pass === 'move' && fps > 1 ? ` · ${fps} pictures/s` : '');
 }
 
 // ---- copy camera, save ----
