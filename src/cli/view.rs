@@ -29,8 +29,17 @@ pub struct ViewArgs {
     bind: IpAddr,
     /// Memory for prepared frames, e.g. 4G (default: half of the memory available at
     /// start); the least recently used frame is dropped beyond it.
-    #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = cache_size)]
     cache_memory: Option<u64>,
+}
+
+/// clap value parser for `--cache-memory`: a size (see `--max-memory`) of at most 1 PiB.
+fn cache_size(s: &str) -> std::result::Result<u64, String> {
+    let bytes = crate::pipeline::memory::parse_size(s)?;
+    if bytes > 1 << 50 {
+        return Err(format!("cache memory '{s}' is more than 1P (1 PiB)"));
+    }
+    Ok(bytes)
 }
 
 /// Set by SIGINT or SIGTERM.
