@@ -20,6 +20,7 @@
 //! | [`figure`] | the interference chart and annotated figures | `spectrum`, `image` |
 //! | [`render`] | camera, environment, area lights, materials, presets, the ray-tree integrator (RGB and spectral) | `geometry`, `spectrum`, `optics`, `image` |
 //! | [`pipeline`] | scene description → particles → geometry → image files | all above |
+//! | [`view`] | `filmsplat view`: the interactive preview in the browser (HTTP server, page, frame cache) | `pipeline` and all below it |
 //! | [`cli`] | command-line front end | all |
 //!
 //! [`error`], [`atomic`] (all-or-nothing file output) and [`mix`] (the SplitMix64 mix) are shared
@@ -42,5 +43,6 @@ pub mod render;
 pub mod samples;
 pub mod scene;
 pub mod spectrum;
+pub mod view;
 
 pub use error::{Error, Result};

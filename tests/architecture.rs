@@ -32,8 +32,25 @@ const ALLOWED: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "view",
+        &[
+            "pipeline",
+            "figure",
+            "scene",
+            "io",
+            "pointcloud",
+            "samples",
+            "geometry",
+            "render",
+            "spectrum",
+            "optics",
+            "image",
+        ],
+    ),
+    (
         "cli",
         &[
+            "view",
             "pipeline",
             "figure",
             "scene",

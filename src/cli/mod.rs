@@ -16,6 +16,7 @@ mod render_scene;
 mod sample;
 mod sequence;
 mod stability;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -50,6 +51,10 @@ enum Command {
     /// Measure the temporal stability of a rendered sequence (mean CIEDE2000 between adjacent
     /// frames where the depth changes little).
     Stability(stability::StabilityArgs),
+    /// Preview interactively in a browser: serves a page on this machine (URL with an access
+    /// token printed) where you orbit, zoom, scrub frames and switch views; takes the inputs
+    /// and flags of `render`.
+    View(Box<view::ViewArgs>),
 }
 
 /// Runs the CLI with the given arguments (including the program name), writing normal output
@@ -91,6 +96,7 @@ where
         Command::Convert(a) => convert::run(&a, out),
         Command::Compare(a) => compare::run(&a, out),
         Command::Stability(a) => stability::run(&a, out),
+        Command::View(a) => view::run(&a, out),
     }
 }
 
