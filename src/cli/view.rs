@@ -2,10 +2,10 @@
 //! `render` does (the same flags, frame patterns, globs, scene files) and hands the frames to
 //! the [`crate::view`] server.
 
+use super::glob;
 use super::render_args::RenderArgs;
 use super::render_scene::scene_from_args;
 use crate::pipeline::sequence;
-use super::glob;
 use crate::view::{App, Frames, Server, token::Token};
 use crate::{Error, Result};
 use clap::Args;

@@ -74,7 +74,7 @@ impl SampleShading {
 
 impl FilmShader {
     /// A shader for film index `ior` in `mode`; `wavelengths` and `strategy` apply to
-    /// [`ShadingMode::Rgb`] and [`ShadingMode::Spectral`]. Building the LUT costs ~0.3 s on 2 cores.
+    /// [`ShadingMode::Rgb`] and [`ShadingMode::Spectral`]. The table is shared per index and built lazily, a block of thicknesses at a time, as lookups reach it.
     pub fn new(
         ior: f32,
         mode: ShadingMode,

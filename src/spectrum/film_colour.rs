@@ -10,7 +10,9 @@ use super::cie::{self, CMF_MAX_NM, CMF_MIN_NM};
 use super::colour::XYZ_TO_LINEAR_SRGB;
 use super::wavelengths::MAX_WAVELENGTHS;
 use crate::optics::{FilmFresnel, film_rt};
-use rayon::prelude::*;
+
+mod lut;
+pub use lut::FilmLut;
 
 /// Un-normalised colour weights of one wavelength: D65(λ) · (M · cmf(λ)).
 fn raw_weight(lambda_nm: f64) -> [f64; 3] {
@@ -174,88 +176,4 @@ fn white_integral_per_nm() -> [f64; 3] {
         }
         s.map(|v| v / grid.len() as f64)
     })
-}
-
-/// Precomputed film colours over (cos θ, thickness): the fastest shading, for previews.
-///
-/// Entries are the 1 nm spectral integral (f32 Airy path; a 2 nm grid misses the sharp
-/// resonances of grazing incidence). The grid is uniform in `√cos θ`
-/// ([`FilmLut::COS_STEPS`] intervals) and in `√(h / MAX_THICKNESS_NM)`
-/// ([`FilmLut::THICKNESS_STEPS`] intervals), so it is densest where the colour changes fastest:
-/// near grazing incidence and for nanometre-thin films (whose reflectance rises steeply at
-/// grazing angles). Lookups interpolate bilinearly. Films thicker than
-/// [`FilmLut::MAX_THICKNESS_NM`] return the incoherent limit (a neutral grey of reflectance
-/// `2ρ/(1+ρ)`), which the table's last entries already approach. Size ~3 MB; build ~0.2 s on
-/// 2 cores.
-#[derive(Debug, Clone)]
-pub struct FilmLut {
-    ior: f32,
-    /// rgb[(ic * n_h + ih)]
-    rgb: Vec<[f32; 3]>,
-    incoherent: Vec<f32>,
-    n_h: usize,
-}
-
-impl FilmLut {
-    /// Intervals of the `√cos θ` grid.
-    pub const COS_STEPS: usize = 128;
-    /// Intervals of the `√thickness` grid.
-    pub const THICKNESS_STEPS: usize = 2048;
-    /// Thickest tabulated film, nm.
-    pub const MAX_THICKNESS_NM: f32 = 5000.0;
-
-    /// Builds the table for film index `ior`.
-    pub fn new(ior: f32) -> Self {
-        let grid: Vec<f32> = reference_grid_nm().iter().map(|&l| l as f32).collect();
-        let weights = SpectralWeights::new(&grid);
-        let n_h = Self::THICKNESS_STEPS + 1;
-        let n_c = Self::COS_STEPS + 1;
-        let cos_at = |ic: usize| (ic as f32 / Self::COS_STEPS as f32).powi(2);
-        let rgb: Vec<[f32; 3]> = (0..n_c * n_h)
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|k| {
-                let (ic, ih) = (k / n_h, k % n_h);
-                let v = ih as f32 / Self::THICKNESS_STEPS as f32;
-                let fresnel = FilmFresnel::new(cos_at(ic), ior);
-                weights.film_reflectance_rgb(&fresnel, v * v * Self::MAX_THICKNESS_NM)
-            })
-            .collect();
-        let incoherent = (0..n_c)
-            .map(|ic| FilmFresnel::new(cos_at(ic), ior).incoherent_reflectance())
-            .collect();
-        FilmLut {
-            ior,
-            rgb,
-            incoherent,
-            n_h,
-        }
-    }
-
-    /// The film index the table was built for.
-    pub fn ior(&self) -> f32 {
-        self.ior
-    }
-
-    /// Reflected colour (linear sRGB, white = 1) at `cos_i` in [0, 1] and `thickness_nm` >= 0.
-    /// Cost: ~5 ns.
-    #[inline]
-    pub fn reflectance_rgb(&self, cos_i: f32, thickness_nm: f32) -> [f32; 3] {
-        let fc = cos_i.clamp(0.0, 1.0).sqrt() * Self::COS_STEPS as f32;
-        let ic = (fc as usize).min(Self::COS_STEPS - 1);
-        let tc = fc - ic as f32;
-        let lerp3 = |a: [f32; 3], b: [f32; 3], t: f32| [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
-        if thickness_nm.is_nan() || thickness_nm > Self::MAX_THICKNESS_NM {
-            let g = self.incoherent[ic] + tc * (self.incoherent[ic + 1] - self.incoherent[ic]);
-            return [g; 3];
-        }
-        let fh =
-            (thickness_nm.max(0.0) / Self::MAX_THICKNESS_NM).sqrt() * Self::THICKNESS_STEPS as f32;
-        let ih = (fh as usize).min(self.n_h - 2);
-        let th = fh - ih as f32;
-        let at = |c: usize, h: usize| self.rgb[c * self.n_h + h];
-        let lo = lerp3(at(ic, ih), at(ic, ih + 1), th);
-        let hi = lerp3(at(ic + 1, ih), at(ic + 1, ih + 1), th);
-        lerp3(lo, hi, tc)
-    }
 }
