@@ -5,6 +5,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
+mod source_support;
+use source_support::rust_files;
+
 /// Longest source file, lines.
 const MAX_FILE_LINES: usize = 500;
 /// Longest function, lines from its `fn` line to its closing brace.
@@ -16,17 +19,6 @@ const PARSER_TABLES: &[(&str, &str)] = &[
     ("io/ply/header.rs", "parse"), // the PLY header keywords
     ("io/bgeo.rs", "header"),      // the BGEO header keys
 ];
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
 
 fn src_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
@@ -71,32 +63,40 @@ fn fn_name(line: &str) -> Option<&str> {
     None
 }
 
+/// The index of the line that closes the item starting at `lines[start]` (its braces
+/// balanced, comments ignored), or `None` for an item without a body (ends with `;` first).
+fn item_end<'a>(lines: impl Iterator<Item = &'a str>) -> Option<usize> {
+    let (mut depth, mut opened) = (0i64, false);
+    for (j, l) in lines.enumerate() {
+        let c = code(l);
+        if !opened && c.trim_end().ends_with(';') && !c.contains('{') {
+            return None;
+        }
+        for ch in c.chars() {
+            match ch {
+                '{' => {
+                    depth += 1;
+                    opened = true;
+                }
+                '}' => depth -= 1,
+                _ => {}
+            }
+        }
+        if opened && depth <= 0 {
+            return Some(j);
+        }
+    }
+    None
+}
+
 /// (name, first line, length) of every function with a body in `text`.
 fn functions(text: &str) -> Vec<(String, usize, usize)> {
     let lines: Vec<&str> = text.lines().collect();
     let mut out = Vec::new();
     for (i, line) in lines.iter().enumerate() {
         let Some(name) = fn_name(line) else { continue };
-        let (mut depth, mut opened) = (0i64, false);
-        for (j, l) in lines.iter().enumerate().skip(i) {
-            let c = code(l);
-            if !opened && c.trim_end().ends_with(';') && !c.contains('{') {
-                break; // a declaration without a body (trait method)
-            }
-            for ch in c.chars() {
-                match ch {
-                    '{' => {
-                        depth += 1;
-                        opened = true;
-                    }
-                    '}' => depth -= 1,
-                    _ => {}
-                }
-            }
-            if opened && depth <= 0 {
-                out.push((name.to_string(), i + 1, j - i + 1));
-                break;
-            }
+        if let Some(j) = item_end(lines[i..].iter().copied()) {
+            out.push((name.to_string(), i + 1, j + 1));
         }
     }
     out
@@ -351,30 +351,22 @@ fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
 
 /// `text` without its `#[cfg(test)]` items: a test module may use any file of its module.
 fn without_tests(text: &str) -> String {
+    let lines: Vec<&str> = text.lines().collect();
     let mut out = String::new();
-    let mut lines = text.lines();
-    while let Some(line) = lines.next() {
-        if line.trim() != "#[cfg(test)]" {
-            out.push_str(line);
-            out.push('\n');
+    let mut i = 0;
+    while i < lines.len() {
+        if lines[i].trim() == "#[cfg(test)]" {
+            // Skip the attribute and the item it marks (a body, or up to its `;`).
+            let rest = &lines[i + 1..];
+            let end = item_end(rest.iter().copied())
+                .or_else(|| rest.iter().position(|l| code(l).trim_end().ends_with(';')))
+                .unwrap_or(rest.len());
+            i += end + 2;
             continue;
         }
-        let (mut depth, mut opened) = (0i64, false);
-        for l in lines.by_ref() {
-            for ch in code(l).chars() {
-                match ch {
-                    '{' => {
-                        depth += 1;
-                        opened = true;
-                    }
-                    '}' => depth -= 1,
-                    _ => {}
-                }
-            }
-            if (opened && depth <= 0) || (!opened && code(l).trim_end().ends_with(';')) {
-                break;
-            }
-        }
+        out.push_str(lines[i]);
+        out.push('\n');
+        i += 1;
     }
     out
 }

@@ -13,11 +13,7 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     let (mut d, base) = read_scene(a)?;
     if let Some(p) = &a.preset {
         // A preset given here replaces the scene file's knobs it fills.
-        let r = &mut d.render;
-        (r.spp, r.max_depth, r.min_weight, r.shading, r.wavelengths) =
-            (None, None, None, None, None);
-        r.roulette = None;
-        r.preset = Some(p.clone());
+        d.set_preset(p);
     }
     film_flags(&mut d, a);
     render_flags(&mut d, a);

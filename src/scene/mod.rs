@@ -278,6 +278,17 @@ pub struct OutputDesc {
 }
 
 impl SceneDesc {
+    /// Uses the settings preset `name` (checked where the description is resolved): it
+    /// replaces the sampling keys it fills (spp, max_depth, min_weight, roulette, shading,
+    /// wavelengths), as `render --preset` does; keys set after this still win.
+    pub fn set_preset(&mut self, name: &str) {
+        let r = &mut self.render;
+        (r.spp, r.max_depth, r.min_weight, r.shading, r.wavelengths) =
+            (None, None, None, None, None);
+        r.roulette = None;
+        r.preset = Some(name.to_string());
+    }
+
     /// Parses TOML text; `name` (the file) is used in error messages, which name the key and
     /// line.
     pub fn from_toml(text: &str, name: &str) -> crate::Result<Self> {

@@ -68,11 +68,7 @@ fn variant_desc(desc: &SceneDesc, v: &Variant) -> SceneDesc {
         d.film.primitive = Some(p.clone());
     }
     if let Some(p) = &v.preset {
-        let r = &mut d.render;
-        (r.spp, r.max_depth, r.min_weight, r.shading, r.wavelengths) =
-            (None, None, None, None, None);
-        r.roulette = None;
-        r.preset = Some(p.clone());
+        d.set_preset(p);
     }
     // Attribute values are gathered only for the variant that shows them.
     d.render.view = v.attribute.as_ref().map(|a| format!("attribute:{a}"));
