@@ -8,6 +8,11 @@
 //!
 //! `cargo bench --bench mls` (env: FILMSPLAT_BENCH_PARTICLES, FILMSPLAT_BENCH_SPP,
 //! FILMSPLAT_BENCH_SIZE=WxH, FILMSPLAT_BENCH_SPHERE = particles on the analytic sphere).
+//!
+//! `FILMSPLAT_BENCH_DUMP=OUT FILMSPLAT_BENCH_INPUT=CLOUD cargo bench --bench mls` instead writes
+//! every MLS crossing of a grid of camera rays over CLOUD (continued past each crossing as the
+//! integrator does, plus the ray reflected at each crossing) to OUT, one line per crossing
+//! (`ray k t nx ny nz`), to compare the surface of two versions of the code.
 
 use filmsplat::geometry::{DiskGeometry, FilmGeometry, MlsSurface, Primitive, Ray, SphereGeometry};
 use filmsplat::image::RgbImage;
@@ -97,7 +102,64 @@ fn sphere_error(g: &FilmGeometry, d: f32, rays: usize) -> [f64; 4] {
     [acc[0] / n, acc[1], acc[2] / n, acc[3]]
 }
 
+/// Writes the crossings of camera rays and of the rays reflected at them (see the module docs).
+fn dump_hits(input: &str, out: &str, w: usize, h: usize) {
+    use std::fmt::Write;
+    let toml = format!(
+        "[input]\ncloud = {input:?}\n[film]\nprimitive = \"mls\"\n[render]\nwidth = {w}\nheight = {h}\n"
+    );
+    let desc = SceneDesc::from_toml(&toml, "bench").unwrap();
+    let p = pipeline::prepare(&desc, std::path::Path::new("."), false).unwrap();
+    let g = &p.scene.geometry;
+    let mut text = String::new();
+    let chain = |id: usize, ray: &Ray, t0: f32, text: &mut String| {
+        let (mut t, mut hits) = (t0, Vec::new());
+        while let Some(hit) = g.intersect(ray, t, f32::INFINITY) {
+            let n = hit.normal;
+            writeln!(
+                text,
+                "{id} {} {} {} {} {}",
+                hits.len(),
+                hit.t,
+                n.x,
+                n.y,
+                n.z
+            )
+            .unwrap();
+            t = hit.t_exit + p.scene.epsilon;
+            hits.push(hit);
+            if hits.len() == 16 {
+                break;
+            }
+        }
+        hits
+    };
+    let aspect = w as f32 / h as f32;
+    for y in 0..h {
+        for x in 0..w {
+            let id = 2 * (y * w + x);
+            let (u, v) = ((x as f32 + 0.37) / w as f32, (y as f32 + 0.61) / h as f32);
+            let ray = p.scene.camera.ray(u, v, aspect);
+            if let Some(hit) = chain(id, &ray, 0.0, &mut text).first() {
+                let cos_signed = ray.dir.dot(hit.normal);
+                let n = hit.normal * -cos_signed.signum();
+                let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
+                let skip = (p.scene.layer_skip / cos_signed.abs().max(0.1)).max(p.scene.epsilon);
+                chain(id + 1, &Ray::new(hit.position, dir), skip, &mut text);
+            }
+        }
+    }
+    std::fs::write(out, text).unwrap();
+}
+
 fn main() {
+    if let Ok(out) = std::env::var("FILMSPLAT_BENCH_DUMP") {
+        let input: String = env_or("FILMSPLAT_BENCH_INPUT", String::new());
+        let size: String = env_or("FILMSPLAT_BENCH_SIZE", "320x180".to_string());
+        let (w, h) = size.split_once('x').unwrap();
+        dump_hits(&input, &out, w.parse().unwrap(), h.parse().unwrap());
+        return;
+    }
     let n: usize = env_or("FILMSPLAT_BENCH_PARTICLES", 1_000_000);
     let spp: u32 = env_or("FILMSPLAT_BENCH_SPP", 4);
     let size: String = env_or("FILMSPLAT_BENCH_SIZE", "960x540".to_string());

@@ -32,6 +32,11 @@ pub(super) struct Cand {
     pub slot: u32,
     /// Particle radius (the local spacing scale), scene units.
     pub r: f32,
+    /// The signed distance to the particle's tangent plane along the ray, gᵢ(t) = nᵢ·(x(t) − pᵢ)
+    /// = `g0 + g1·t` (scene units; zero for point queries).
+    pub g0: f32,
+    /// See `g0`.
+    pub g1: f32,
 }
 
 /// Everything known about the surface at one point.
@@ -141,6 +146,8 @@ mod tests {
             tb: f32::INFINITY,
             slot: 0,
             r: h,
+            g0: 0.0,
+            g1: 0.0,
         }
     }
 

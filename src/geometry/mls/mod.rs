@@ -13,15 +13,26 @@
 //! * **Rays** (Adamson & Alexa 2003, "Ray tracing point set surfaces"): the surface lies inside
 //!   the union of the support spheres. A near-first BVH query collects the spheres the ray
 //!   crosses within a few support radii of the first one (more only if needed); they are
-//!   merged into intervals of the ray, and each interval is marched with steps of ½|f|
-//!   (f is distance-like) bounded to 0.05–0.5 particle radii, a sign change is refined by
-//!   bracketed Illinois regula falsi to 10⁻³ radii, and a local minimum of |f| between samples is
-//!   checked for a grazing double crossing (so grazing rays do not tunnel).
+//!   merged into intervals of the ray. f is a weighted mean of the distances to the particles'
+//!   tangent planes, each linear along the ray, so in each interval f can vanish only in the
+//!   band where covering particles' planes disagree in sign (the `band` module; a few
+//!   hundredths of a spacing for a smooth film): the approach to a film and the way out of it
+//!   cost no evaluation of f. The band is marched with steps of 0.9|f| (f is distance-like)
+//!   bounded to 0.05–1 particle radii, a sign change is refined by bracketed Illinois regula
+//!   falsi to 10⁻³ radii, and a local minimum of |f| between samples is checked for a grazing
+//!   double crossing (so grazing rays do not tunnel).
+//! * **Continued rays.** A per-thread buffer keeps the spheres gathered for the last query; a
+//!   query on the same ray further on (the transmitted branch of a crossing, a shadow ray's
+//!   next crossing) reuses them instead of traversing the BVH again, already in order.
 //!
-//! Queries are `&self` and thread-safe (a per-thread buffer holds the ray's neighbours).
+//! Queries are `&self` and thread-safe.
 
+mod band;
 mod field;
+mod gathered;
 mod trace;
+
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -82,7 +93,13 @@ pub struct MlsSurface {
     params: MlsParams,
     /// Absolute total weight a crossing needs.
     weight_threshold: f32,
+    /// Distinct per build (clones share it): names the surface a thread's kept support spheres
+    /// belong to.
+    id: u64,
 }
+
+/// Source of [`MlsSurface`] ids.
+static NEXT_ID: AtomicU64 = AtomicU64::new(0);
 
 impl MlsSurface {
     /// Builds the surface with default [`MlsParams`]. One entry per particle in each slice;
@@ -151,6 +168,7 @@ impl MlsSurface {
             particles,
             params,
             weight_threshold: 0.0,
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         };
         surface.weight_threshold = params.min_weight * surface.median_particle_weight();
         Ok(surface)
@@ -198,6 +216,8 @@ impl MlsSurface {
             tb,
             slot,
             r: q.h / self.params.support,
+            g0: 0.0,
+            g1: 0.0,
         }
     }
 

@@ -1,9 +1,9 @@
 //! Ray–MLS-surface intersection: support intervals from the BVH, a distance-guided march with a
 //! grazing check, and bracketed refinement (see the parent module's docs).
 
-use std::cell::RefCell;
-
+use super::band;
 use super::field::{self, Cand};
+use super::gathered::{GATHERED, QueryKey, sort_by_entry};
 use super::{MIN_COHERENCE, MlsSurface};
 use crate::geometry::primitives::sphere_roots;
 use crate::geometry::{Ray, SurfaceHit};
@@ -24,11 +24,6 @@ const MAX_MARCH: usize = 1 << 16;
 /// Upper bound on refinement iterations (two per halving of the bracket at worst).
 const MAX_REFINE: usize = 64;
 
-thread_local! {
-    /// The support spheres along the current ray (reused between queries).
-    static CANDS: RefCell<Vec<Cand>> = const { RefCell::new(Vec::new()) };
-}
-
 /// A sample of f along the ray: (t, f).
 type Sample = (f32, f32);
 
@@ -37,61 +32,90 @@ impl MlsSurface {
     /// final bracket (at most 10⁻³ radii beyond `t`), so a ray continued from
     /// `t_exit + eps` never finds the same crossing again. Cost: one near-first BVH traversal
     /// collecting the support spheres the ray crosses within [`WINDOW`] support radii of the
-    /// first one (all of them only when the first crossing lies beyond), then ~10 evaluations
-    /// of f per support interval up to the hit and ~5 more to refine it, each over the spheres
-    /// covering that point.
+    /// first one (all of them only when the first crossing lies beyond; none when the query
+    /// continues the previous one on this thread along the same ray, whose spheres are kept),
+    /// then per support interval O(spheres) to bound where the tangent planes allow a crossing
+    /// (see the `band` module) and ~3–6 evaluations of f inside that band, each over the
+    /// spheres covering that point.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
-        CANDS.with_borrow_mut(|cands| {
+        GATHERED.with_borrow_mut(|g| {
+            let key = QueryKey::new(self.id, ray, t_max);
             let mut from = t_min;
+            let mut reuse = g.key == Some(key) && t_min >= g.from && t_min < g.window;
             loop {
-                // Every sphere entered before `window` is visited (nodes are culled only beyond
-                // the shrinking bound), so support intervals ending before it are complete, and
-                // nothing covers `window` itself once they all have ended.
-                cands.clear();
-                let mut window = t_max;
-                self.bvh.closest(ray, from, t_max, |s, bound| {
-                    if let Some(c) = self.clipped(ray, s, from, t_max)
-                        && c.ta <= *bound
-                    {
-                        let end = c.ta + WINDOW * self.particles[s as usize].h;
-                        window = window.min(end);
-                        *bound = bound.min(end);
-                        cands.push(c);
-                    }
-                });
-                cands.retain(|c| c.ta <= window);
-                match self.march_all(ray, cands, window) {
+                if reuse {
+                    // The same ray further on: the spheres it is still inside or enters before
+                    // the window are exactly the kept ones that end beyond `from`.
+                    g.cands.retain_mut(|c| {
+                        c.ta = c.ta.max(from);
+                        c.ta < c.tb
+                    });
+                    g.from = from;
+                    reuse = false;
+                } else {
+                    g.window = self.gather(ray, from, t_max, &mut g.cands);
+                    (g.key, g.from) = (Some(key), from);
+                }
+                match self.march_all(ray, &mut g.cands, g.window) {
                     Ok(Some(hit)) => return Some(hit),
-                    Ok(None) if window < t_max && window > from => from = window,
+                    Ok(None) if g.window < t_max && g.window > from => from = g.window,
                     Ok(None) => return None,
                     Err(start) => {
                         // An interval runs on past the window: collect everything from its start.
-                        cands.clear();
+                        g.cands.clear();
                         self.bvh.visit_segment(ray, start, t_max, |s| {
-                            cands.extend(self.clipped(ray, s, start, t_max));
+                            g.cands.extend(self.clipped(ray, s, start, t_max));
                         });
-                        return self.march_all(ray, cands, t_max).ok().flatten();
+                        (g.from, g.window) = (start, t_max);
+                        return self.march_all(ray, &mut g.cands, t_max).ok().flatten();
                     }
                 }
             }
         })
     }
 
+    /// Collects into `cands` the support spheres the ray is inside somewhere in
+    /// `(from, t_max)`, entered within [`WINDOW`] support radii of the first one, and returns
+    /// that window's end. Every sphere entered before the window is visited (nodes are culled
+    /// only beyond the shrinking bound), so support intervals ending before it are complete,
+    /// and nothing covers the window's end itself once they all have ended.
+    fn gather(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) -> f32 {
+        cands.clear();
+        let mut window = t_max;
+        self.bvh.closest(ray, from, t_max, |s, bound| {
+            if let Some(c) = self.clipped(ray, s, from, t_max)
+                && c.ta <= *bound
+            {
+                let end = c.ta + WINDOW * self.particles[s as usize].h;
+                window = window.min(end);
+                *bound = bound.min(end);
+                cands.push(c);
+            }
+        });
+        cands.retain(|c| c.ta <= window);
+        window
+    }
+
     /// The candidate record of the sphere in `slot` if the ray is inside it somewhere in
     /// `(t_min, t_max)`.
-    #[inline]
+    #[inline(always)]
     fn clipped(&self, ray: &Ray, slot: u32, t_min: f32, t_max: f32) -> Option<Cand> {
         let q = &self.particles[slot as usize];
         let (t0, t1) = sphere_roots(ray, q.p, q.h)?;
         let (ta, tb) = (t0.max(t_min), t1.min(t_max));
-        (ta < tb).then(|| self.cand(slot, ta, tb))
+        (ta < tb).then(|| {
+            let mut c = self.cand(slot, ta, tb);
+            (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
+            c
+        })
     }
 
     /// Sorts `cands` and marches the union of their support intervals, one connected piece at a
-    /// time, returning the first valid crossing. Only intervals ending by `complete` are known
+    /// time, returning the first valid crossing; inside each piece only the band where the
+    /// tangent planes allow a crossing is marched. Only intervals ending by `complete` are known
     /// to hold all their spheres: reaching one that does not gives `Err(its start)`.
     fn march_all(
         &self,
@@ -99,7 +123,7 @@ impl MlsSurface {
         cands: &mut [Cand],
         complete: f32,
     ) -> Result<Option<SurfaceHit>, f32> {
-        cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+        sort_by_entry(cands);
         let mut i = 0;
         while i < cands.len() {
             let (s0, mut s1, mut r) = (cands[i].ta, cands[i].tb, cands[i].r);
@@ -112,27 +136,43 @@ impl MlsSurface {
             if s1 > complete {
                 return Err(s0);
             }
-            if let Some(hit) = self.march(ray, &cands[i..j], s0, s1, r) {
-                return Ok(Some(hit));
+            let piece = &cands[i..j];
+            let tol = tolerance(ray, s1, r);
+            if let Some((u, v)) = band::sign_band(piece, s0, s1, tol) {
+                let (u, v) = ((u - tol).max(s0), (v + tol).min(s1));
+                if let Some(hit) = self.march(ray, piece, u, v, r, tol) {
+                    return Ok(Some(hit));
+                }
             }
             i = j;
         }
         Ok(None)
     }
 
-    /// The first valid crossing in the support interval `[s0, s1]` covered by `cands`, whose
-    /// smallest particle radius is `r`.
-    fn march(&self, ray: &Ray, cands: &[Cand], s0: f32, s1: f32, r: f32) -> Option<SurfaceHit> {
+    /// The first valid crossing in `[s0, s1]` (part of a support interval covered by `cands`,
+    /// whose smallest particle radius is `r`), refined to `tol`. f is sampled at both ends
+    /// first: opposite signs across at most one march step are refined at once; otherwise the
+    /// march from `s0` stops as soon as the step rule (no zero within `STEP_OF_F`·|f| of a
+    /// sample) leaves no room for one before `s1`.
+    #[allow(clippy::too_many_arguments)]
+    fn march(
+        &self,
+        ray: &Ray,
+        cands: &[Cand],
+        s0: f32,
+        s1: f32,
+        r: f32,
+        tol: f32,
+    ) -> Option<SurfaceHit> {
         let (min_step, max_step) = (MIN_STEP * r, MAX_STEP * r);
-        // Below ~8 ulps of the coordinates the bracket cannot shrink further.
-        let scale = ray.origin.abs().max_element() + s1.abs();
-        let tol = (TOLERANCE * r).max(8.0 * f32::EPSILON * scale);
         let min_step = min_step.max(2.0 * tol);
         let f_at = |t: f32| field::value(cands, ray.at(t), t);
+        let end: Option<Sample> = f_at(s1).map(|f| (s1, f));
         let (mut prev, mut prev2): (Option<Sample>, Option<Sample>) = (None, None);
         let mut t = s0;
         for _ in 0..MAX_MARCH {
-            let step = match f_at(t) {
+            let f = if t >= s1 { end.map(|e| e.1) } else { f_at(t) };
+            let step = match f {
                 Some(f) => {
                     let cur = (t, f);
                     if let Some(p) = prev {
@@ -143,6 +183,20 @@ impl MlsSurface {
                         }
                         if (p.1 < 0.0) != (f < 0.0)
                             && let Some(hit) = self.crossing(ray, cands, p, cur, tol)
+                        {
+                            return Some(hit);
+                        }
+                    }
+                    if let Some(e) = end
+                        && t < s1
+                    {
+                        if (e.1 < 0.0) == (f < 0.0) {
+                            if STEP_OF_F * (f.abs() + e.1.abs()) >= s1 - t {
+                                break; // no room for a zero before the end
+                            }
+                        } else if prev.is_none()
+                            && s1 - t <= max_step
+                            && let Some(hit) = self.crossing(ray, cands, cur, e, tol)
                         {
                             return Some(hit);
                         }
@@ -237,6 +291,14 @@ impl MlsSurface {
     }
 }
 
+/// The refinement tolerance in a support interval ending at `s1` whose smallest particle radius
+/// is `r`: [`TOLERANCE`] radii, but not below ~8 ulps of the coordinates, where the bracket
+/// cannot shrink further.
+fn tolerance(ray: &Ray, s1: f32, r: f32) -> f32 {
+    let scale = ray.origin.abs().max_element() + s1.abs();
+    (TOLERANCE * r).max(8.0 * f32::EPSILON * scale)
+}
+
 /// Offset from the middle abscissa to the vertex of the parabola through (da, ya), (0, 0) and
 /// (dc, yc).
 fn vertex_offset(da: f32, dc: f32, ya: f32, yc: f32) -> f32 {
@@ -247,24 +309,27 @@ fn vertex_offset(da: f32, dc: f32, ya: f32, yc: f32) -> f32 {
 }
 
 /// Bracketed root of `f` between `lo` and `hi` (opposite signs): Illinois regula falsi with a
-/// bisection whenever a step did not halve the bracket. Returns (root estimate, far end of the
-/// final bracket), or `None` if f cannot be evaluated inside the bracket.
+/// bisection whenever a step did not halve the bracket. After a secant step the next point is
+/// placed ½`tol` beyond it towards the root: f is nearly linear across a film, so the secant
+/// point is usually within that of the root and the bracket closes to `tol` in one more
+/// evaluation. Returns (root estimate, far end of the final bracket), or `None` if f cannot be
+/// evaluated inside the bracket.
 fn refine(f: impl Fn(f32) -> Option<f32>, lo: Sample, hi: Sample, tol: f32) -> Option<(f32, f32)> {
     let ((mut a, mut fa), (mut b, mut fb)) = (lo, hi);
     // Illinois-scaled copies of fa, fb used for the secant.
     let (mut ga, mut gb) = (fa, fb);
     let mut side = 0i8;
-    let mut bisect = false;
+    let (mut bisect, mut nudge) = (false, None);
     for _ in 0..MAX_REFINE {
         let width = b - a;
         if width <= tol {
             break;
         }
         let secant = a - ga * width / (gb - ga);
-        let c = if bisect || !(secant > a && secant < b) {
-            0.5 * (a + b)
-        } else {
-            secant
+        let (c, was_secant) = match nudge.take() {
+            Some(n) if n > a && n < b => (n, false),
+            _ if bisect || !(secant > a && secant < b) => (0.5 * (a + b), false),
+            _ => (secant, true),
         };
         let fc = f(c)?;
         if fc == 0.0 {
@@ -282,6 +347,9 @@ fn refine(f: impl Fn(f32) -> Option<f32>, lo: Sample, hi: Sample, tol: f32) -> O
                 ga *= 0.5;
             }
             side = 1;
+        }
+        if was_secant {
+            nudge = Some(if c == a { c + 0.5 * tol } else { c - 0.5 * tol });
         }
         bisect = b - a > 0.5 * width;
     }
