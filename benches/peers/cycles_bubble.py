@@ -140,7 +140,9 @@ def main():
         for spp, _, exr in lad:
             t = times[(name, spp)]
             q = pc.summarize(pc.delta_e_map(pc.read_exr(exr)[0], ref), mask)
-            rows.append({"renderer": name, "spp": spp, "exr": exr, "wall": pc.median([w for w, _ in t]),
+            rows.append({"renderer": name, "spp": spp, "exr": exr,
+                         "wall": pc.median([w for w, _ in t]),
+                         "seconds": pc.median([w for w, _ in t]),  # the old key: wall
                          "cpu": pc.median([c for _, c in t]), **q})
     cross = pc.summarize(pc.delta_e_map(fs_ref, cy_ref), mask)
     summary = report(args, size, rows, cross, refs, mask)
