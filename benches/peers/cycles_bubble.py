@@ -44,9 +44,9 @@ def parse_args():
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--out", default="/tmp/filmsplat-peers")
     ap.add_argument("--filmsplat", default=pc.DEFAULT_FILMSPLAT, help="filmsplat binary")
-    ap.add_argument("--filmsplat-spp", default="1,2,4,8")
+    ap.add_argument("--filmsplat-spp", default="1,4,16,64")
     ap.add_argument("--cycles-spp", default="16,64,256,1024")
-    ap.add_argument("--filmsplat-ref-spp", type=int, default=64)
+    ap.add_argument("--filmsplat-ref-spp", type=int, default=256)
     ap.add_argument("--cycles-ref-spp", type=int, default=8192)
     ap.add_argument("--radius-scale", type=float, default=0.5)
     ap.add_argument("--ior", type=float, default=1.33)
@@ -61,6 +61,8 @@ def parse_args():
     ap.add_argument("--repeats", type=int, default=3, help="interleaved runs; medians reported")
     ap.add_argument("--threads", type=int, default=0,
                     help="threads for both renderers (0: all cores)")
+    ap.add_argument("--reuse-refs", action="store_true",
+                    help="keep converged references already in --out (same settings!)")
     ap.add_argument("--png", default="", help="also write a side-by-side PNG of the converged "
                                               "renders and the ΔE-1 runs here")
     return ap.parse_args()
@@ -107,7 +109,11 @@ def main():
     fs_ref_cmd, fs_ref_exr = fs_run(args, ply, env, camera, size, args.filmsplat_ref_spp, 0.0,
                                     "_ref", seed=7)
     cy_ref_cmd, cy_ref_exr = cy_run(args, ply, env, camera, size, args.cycles_ref_spp, seed=7)
-    refs = {"filmsplat": pc.timed(fs_ref_cmd, env_vars), "cycles": pc.timed(cy_ref_cmd, env_vars)}
+    refs = {}
+    for name, cmd, exr in (("filmsplat", fs_ref_cmd, fs_ref_exr),
+                           ("cycles", cy_ref_cmd, cy_ref_exr)):
+        reuse = args.reuse_refs and os.path.exists(exr)
+        refs[name] = (float("nan"), float("nan")) if reuse else pc.timed(cmd, env_vars)
     print(f"references: filmsplat {refs['filmsplat'][0]:.1f} s, Cycles {refs['cycles'][0]:.1f} s"
           f" wall; {pc.load()}", flush=True)
 
