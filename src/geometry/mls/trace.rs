@@ -154,7 +154,6 @@ impl MlsSurface {
     /// first: opposite signs across at most one march step are refined at once; otherwise the
     /// march from `s0` stops as soon as the step rule (no zero within `STEP_OF_F`·|f| of a
     /// sample) leaves no room for one before `s1`.
-    #[allow(clippy::too_many_arguments)]
     fn march(
         &self,
         ray: &Ray,
