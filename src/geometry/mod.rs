@@ -52,7 +52,7 @@ pub use droplets::{DropletHit, Droplets, WATER_IOR};
 pub use film::FilmGeometry;
 pub use hit::SurfaceHit;
 pub use mesh::{MeshGeometry, MeshSides};
-pub use mls::{MlsParams, MlsSurface};
+pub use mls::{MlsParams, MlsPoint, MlsSurface};
 pub use shape::{Mesh, Shape, ShapeHit, ShapeSample, frame};
 pub use spheres::SphereGeometry;
 pub use tree::Bvh;

@@ -65,6 +65,24 @@ impl Default for MlsParams {
     }
 }
 
+/// The MLS field at one point ([`MlsSurface::field_at`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MlsPoint {
+    /// f(x), scene units (≈ signed distance to the surface, positive on the normals' side).
+    pub f: f32,
+    /// ∇f(x) (≈ the unit surface normal near the surface).
+    pub grad: Vec3,
+    /// Total weight Σ wᵢ(x).
+    pub weight: f32,
+    /// Agreement of the neighbours' normals, |Σ wᵢ nᵢ| / Σ wᵢ (1 = all alike).
+    pub coherence: f32,
+    /// Interpolated thickness, nm.
+    pub thickness_nm: f32,
+    /// A zero of f here would count as film: weight ≥ [`MlsSurface::weight_threshold`] and
+    /// coherence ≥ ½ (see the module docs).
+    pub is_film: bool,
+}
+
 /// One particle in slot order (32 bytes).
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
@@ -232,6 +250,21 @@ impl MlsSurface {
     /// Cost: one BVH point query.
     pub fn value_at(&self, x: Vec3) -> Option<f32> {
         self.sample_at(x).map(|s| s.f)
+    }
+
+    /// Everything the surface knows at `x` (f, its gradient, the total weight, the normals'
+    /// agreement, the thickness), or `None` where no particle's support reaches `x`: the same
+    /// field the ray intersection finds the zeros of, for probing and for brute-force checks.
+    /// Cost: one BVH point query.
+    pub fn field_at(&self, x: Vec3) -> Option<MlsPoint> {
+        self.sample_at(x).map(|s| MlsPoint {
+            f: s.f,
+            grad: s.grad,
+            weight: s.weight,
+            coherence: s.coherence,
+            thickness_nm: s.thickness,
+            is_film: s.weight >= self.weight_threshold && s.coherence >= MIN_COHERENCE,
+        })
     }
 
     /// Bounds of the support spheres (the empty box for zero particles).
