@@ -97,11 +97,17 @@ section_io() {
   cargo bench --quiet --bench io_formats
 }
 
+# The peer sections need bpy, pysplashsurf, colour-science, numpy and OpenEXR: PEERS_PY names a
+# python that has them (python3 -m venv V && V/bin/pip install bpy pysplashsurf colour-science
+# numpy OpenEXR; default python3).
+peers_py=${PEERS_PY:-python3}
+
 section_cycles() {
-  python3 benches/peers/cycles_bubble.py --particles 200000 --size 320x240 --out "$out/cycles"
+  "$peers_py" benches/peers/cycles_bubble.py --particles 200000 --size 320x240 --roulette 0,0.3 \
+    --out "$out/cycles" --png samples/images/peers_cycles.png
 }
 
-section_mesh() { python3 benches/peers/mesh_pipeline.py --out "$out/mesh"; }
+section_mesh() { "$peers_py" benches/peers/mesh_pipeline.py --cases bubble,shell,melp --out "$out/mesh"; }
 
 all="cli pipeline mls fixed suite shadings tradeoffs studio optics io cycles mesh"
 for s in ${@:-$all}; do
