@@ -13,7 +13,7 @@
 mod geometry_support;
 use geometry_support::Rng;
 
-use filmsplat::geometry::{Aabb, MlsSurface, Ray};
+use filmsplat::geometry::{MlsSurface, Ray};
 use filmsplat::io::{ReadOptions, read_parts};
 use filmsplat::pointcloud::{EstimateOptions, PointCloud, fill_missing};
 use filmsplat::samples::{fibonacci_spacing, fibonacci_sphere};
@@ -35,24 +35,9 @@ struct Zero {
     marginal: bool,
 }
 
-/// The ray's parameter range inside `b`, if it meets it.
-fn clip(ray: &Ray, b: &Aabb) -> Option<(f32, f32)> {
-    let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
-    for k in 0..3 {
-        let inv = 1.0 / ray.dir[k];
-        let (a, c) = (
-            (b.min[k] - ray.origin[k]) * inv,
-            (b.max[k] - ray.origin[k]) * inv,
-        );
-        t0 = t0.max(a.min(c));
-        t1 = t1.min(a.max(c));
-    }
-    (t0 < t1).then_some((t0, t1))
-}
-
 /// Every zero of f along `ray`, or `None` if the oracle is unsure on this ray.
 fn oracle(s: &MlsSurface, ray: &Ray, r_min: f32) -> Option<Vec<Zero>> {
-    let Some((t0, t1)) = clip(ray, &s.bounds()) else {
+    let Some((t0, t1)) = s.bounds().intersect_ray(ray, 0.0, f32::INFINITY) else {
         return Some(Vec::new());
     };
     let step = STEP * r_min;
