@@ -263,8 +263,13 @@ impl MlsSurface {
             weight: s.weight,
             coherence: s.coherence,
             thickness_nm: s.thickness,
-            is_film: s.weight >= self.weight_threshold && s.coherence >= MIN_COHERENCE,
+            is_film: self.is_film(&s),
         })
+    }
+
+    /// A zero of f with this sample counts as film: enough weight, agreeing normals.
+    fn is_film(&self, s: &field::FieldSample) -> bool {
+        s.weight >= self.weight_threshold && s.coherence >= MIN_COHERENCE
     }
 
     /// Bounds of the support spheres (the empty box for zero particles).

@@ -1,10 +1,10 @@
 //! Ray–MLS-surface intersection: support intervals from the BVH, a distance-guided march with a
 //! grazing check, and bracketed refinement (see the parent module's docs).
 
+use super::MlsSurface;
 use super::band;
 use super::field::{self, Cand};
 use super::gathered::{GATHERED, QueryKey, sort_by_entry};
-use super::{MIN_COHERENCE, MlsSurface};
 use crate::geometry::primitives::sphere_roots;
 use crate::geometry::{Ray, SurfaceHit};
 
@@ -271,7 +271,7 @@ impl MlsSurface {
         let (t, t_exit) = refine(|t| field::value(cands, ray.at(t), t), lo, hi, tol)?;
         let x = ray.at(t);
         let s = field::sample(cands, x, t)?;
-        if s.weight < self.weight_threshold || s.coherence < MIN_COHERENCE {
+        if !self.is_film(&s) {
             return None;
         }
         let normal = s
