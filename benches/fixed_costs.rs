@@ -12,6 +12,7 @@ use filmsplat::geometry::DiskGeometry;
 use filmsplat::io::{ReadOptions, read_cloud};
 use filmsplat::pointcloud::PointCloud;
 use filmsplat::pointcloud::curvature::first_order_detail;
+use filmsplat::pointcloud::estimate::{EstimateOptions, fill_missing};
 use filmsplat::pointcloud::gaps::fit_radii;
 use filmsplat::pointcloud::knn::PointIndex;
 use filmsplat::samples::{BubbleParams, bubble};
@@ -31,14 +32,18 @@ fn median_secs(runs: usize, mut f: impl FnMut()) -> f64 {
     t[t.len() / 2]
 }
 
+/// The file's cloud (or the 1M bubble), with what it lacks (normals, radii, thickness)
+/// estimated as `render` would, so every stage has its inputs.
 fn load(args: &[String]) -> PointCloud {
-    match args.iter().find(|a| !a.starts_with('-') && a.contains('.')) {
+    let mut cloud = match args.iter().find(|a| !a.starts_with('-') && a.contains('.')) {
         Some(path) => read_cloud(path.as_ref(), &ReadOptions::default()).expect("readable cloud"),
         None => bubble(&BubbleParams {
             particles: 1_000_000,
             ..Default::default()
         }),
-    }
+    };
+    fill_missing(&mut cloud, &EstimateOptions::default());
+    cloud
 }
 
 fn main() {
@@ -58,9 +63,9 @@ fn main() {
         .unwrap_or(3);
     let cloud = load(&args);
     let n = cloud.len();
-    let normals = cloud.normals.clone().expect("cloud with normals");
-    let thickness = cloud.thickness_nm.clone().unwrap_or_else(|| vec![500.0; n]);
-    let radii = cloud.radius.clone().expect("cloud with radii");
+    let normals = cloud.normals.clone().unwrap_or_default();
+    let thickness = cloud.thickness_nm.clone().unwrap_or_default();
+    let radii = cloud.radius.clone().unwrap_or_default();
     println!(
         "{n} particles, median of {runs} runs, {} threads",
         rayon::current_num_threads()

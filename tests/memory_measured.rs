@@ -112,7 +112,7 @@ fn the_estimate_holds_the_measured_image_buffers() {
     let pixels = (800.0 * 600.0) - (160.0 * 120.0);
     let measured = (big - small) as f64 / pixels;
     let estimated = (e_big.image - e_small.image) as f64 / pixels;
-    eprintln!("{measured:.1} of {estimated:.1} B/pixel");
+    eprintln!("{measured:.1} of {estimated:.1} B/pixel; small {small} big {big}");
     assert!(
         measured <= estimated && measured >= 0.5 * estimated,
         "measured {measured:.1} B/pixel, estimated {estimated:.1}"

@@ -97,11 +97,14 @@ pub(super) fn film_geometry(
     if film.primitive == Primitive::Mls {
         return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
     }
+    // The detail first: its neighbour table (96 B a particle) is dropped before the tree's
+    // build allocates, so the two never add up at the peak.
+    let detail = (film.primitive == Primitive::Disk && film.first_order_detail)
+        .then(|| detail(&cloud.positions, normals, thickness, neighbours));
     let mut splats =
         FilmGeometry::particles(film.primitive, &cloud.positions, normals, radii, thickness)?;
     if let FilmGeometry::Disks(disks) = &mut splats {
-        if film.first_order_detail {
-            let (curvature, gradient) = detail(&cloud.positions, normals, thickness, neighbours);
+        if let Some((curvature, gradient)) = detail {
             disks.set_curvature(&curvature)?;
             disks.set_thickness_gradient(&gradient)?;
         }

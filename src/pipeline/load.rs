@@ -8,8 +8,8 @@ pub use super::sample_check::check_sample_params;
 use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud, read_parts};
 use crate::optics::check_film_params;
-use crate::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii};
-use crate::pointcloud::knn::KnnTable;
+use crate::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii_indexed};
+use crate::pointcloud::knn::{KnnTable, PointIndex};
 use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
 };
@@ -178,7 +178,8 @@ pub(super) fn films(
         ..Films::default()
     };
     for part in films {
-        let (cloud, table, had_radius) = complete(part, film, repairing, notes)?;
+        let keep_table = single && film.first_order_detail;
+        let (cloud, table, had_radius) = complete(part, film, repairing, keep_table, notes)?;
         out.had_radius &= had_radius;
         if single {
             out.neighbours = table;
@@ -195,12 +196,14 @@ pub(super) fn films(
 }
 
 /// One film part made ready to draw: validated (or repaired), coincident copies dropped,
-/// thickness scaled, what is missing estimated, radii fitted. Returns the estimate's neighbour
-/// table if it built one, and whether the part came with radii.
+/// thickness scaled, what is missing estimated, radii fitted. Returns the neighbour table if
+/// one was built (by the estimate, or for the fit when `keep_table`: the caller will reuse
+/// 12 neighbours a particle), and whether the part came with radii.
 fn complete(
     part: CloudPart,
     film: &FilmConfig,
     repairing: bool,
+    keep_table: bool,
     notes: &mut Vec<Note>,
 ) -> Result<(PointCloud, Option<KnnTable>, bool)> {
     let label = part.label;
@@ -238,15 +241,26 @@ fn complete(
     if repairing {
         validate(&cloud).map_err(name)?;
     }
-    if film.fit_radii {
+    let mut table = table;
+    if film.fit_radii
+        && let Some(r) = cloud.radius.as_mut()
+    {
         // Radii fitted to the sampling: no pinholes inside, no bulge at open edges. The
-        // estimate's table serves if it has the neighbours, else a sliced search.
+        // estimate's table serves if it has the neighbours. Else, when the disks' first-order
+        // detail will want the same 12 neighbours, one whole table is searched for both (the
+        // memory estimate counts it); else a sliced search.
+        let index = PointIndex::build(&cloud.positions);
+        if keep_table && table.as_ref().is_none_or(|t| t.k < FAN_NEIGHBOURS) {
+            table = Some(KnnTable::build_with(
+                &index,
+                &cloud.positions,
+                FAN_NEIGHBOURS,
+            ));
+        }
         let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
         let normals = cloud.normals.as_deref().unwrap_or_default();
-        if let Some(r) = cloud.radius.as_mut() {
-            let fit = fit_radii(&cloud.positions, normals, r, t);
-            notes.push(Note::new(format!("{label}: {fit}")));
-        }
+        let fit = fit_radii_indexed(&index, &cloud.positions, normals, r, t);
+        notes.push(Note::new(format!("{label}: {fit}")));
     }
     Ok((cloud, table, had_radius))
 }

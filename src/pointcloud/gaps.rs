@@ -114,14 +114,39 @@ pub fn fit_radii(
     radii: &mut [f32],
     table: Option<&KnnTable>,
 ) -> GapReport {
+    if positions.len() < 3 {
+        return GapReport::default();
+    }
+    fit_radii_indexed(
+        &PointIndex::build(positions),
+        positions,
+        normals,
+        radii,
+        table,
+    )
+}
+
+/// [`fit_radii`] with the neighbour index over the same `positions` already built (e.g. the
+/// one the caller built `table` from), so it is not built twice.
+pub fn fit_radii_indexed(
+    index: &PointIndex,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    radii: &mut [f32],
+    table: Option<&KnnTable>,
+) -> GapReport {
     let n = positions.len();
-    if n < 3 || normals.len() != n || radii.len() != n || table.is_some_and(|t| t.len() != n) {
+    if n < 3
+        || normals.len() != n
+        || radii.len() != n
+        || index.len() > n
+        || table.is_some_and(|t| t.len() != n)
+    {
         return GapReport::default();
     }
     let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
     let cap = MAX_GROWTH * median;
-    let index = PointIndex::build(positions);
-    let longest = LONG_EDGE * median_kth_distance(&index, positions, SPACING_RANK);
+    let longest = LONG_EDGE * median_kth_distance(index, positions, SPACING_RANK);
     let fit = |i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
         fan(i, positions, normals, radii[i].min(median), longest, row)
     };
@@ -135,7 +160,7 @@ pub fn fit_radii(
             let mut fits = Vec::with_capacity(n);
             for start in (0..n).step_by(CHUNK) {
                 let rows = start..(start + CHUNK).min(n);
-                let t = KnnTable::build_rows(&index, positions, FAN_NEIGHBOURS, rows.clone());
+                let t = KnnTable::build_rows(index, positions, FAN_NEIGHBOURS, rows.clone());
                 fits.par_extend(
                     rows.into_par_iter()
                         .with_min_len(512)
@@ -159,6 +184,11 @@ pub fn fit_radii(
             }
         })
         .collect();
+    apply(radii, fits, cap)
+}
+
+/// Sets the radii from their fans' verdicts (growth capped at `cap` or the radius itself).
+fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32) -> GapReport {
     let mut report = GapReport::default();
     for (r, fit) in radii.iter_mut().zip(fits) {
         match fit {
@@ -370,5 +400,41 @@ mod tests {
             .zip(&r)
             .any(|(p, r)| (*p - Vec3::new(6.0, 6.0, 0.0)).length() < *r);
         assert!(!covered);
+    }
+
+    #[test]
+    fn a_whole_table_fits_as_the_sliced_search() {
+        // The render searches one whole 12-neighbour table for the fit and the disks' detail
+        // together; the fit must not change with it. A jittered grid with a hole and a free
+        // edge, more particles than one slice so the sliced search takes several.
+        let w = 300;
+        let mut seed = 0x9e37_79b9u32;
+        let mut jitter = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32 - 0.5
+        };
+        let pos: Vec<Vec3> = grid(w)
+            .into_iter()
+            .filter(|p| (*p - Vec3::new(150.0, 150.0, 0.0)).length() > 20.0)
+            .map(|p| p + Vec3::new(0.4 * jitter(), 0.4 * jitter(), 0.05 * jitter()))
+            .collect();
+        assert!(pos.len() > CHUNK);
+        let normals = vec![Vec3::Z; pos.len()];
+        let mut sliced = vec![0.55; pos.len()];
+        let a = fit_radii(&pos, &normals, &mut sliced, None);
+        let index = PointIndex::build(&pos);
+        let table = KnnTable::build_with(&index, &pos, FAN_NEIGHBOURS);
+        let mut whole = vec![0.55; pos.len()];
+        let b = fit_radii_indexed(&index, &pos, &normals, &mut whole, Some(&table));
+        assert!(a.grown > 0 && a.edge > 0, "{a:?}");
+        assert_eq!(a, b);
+        assert!(
+            sliced
+                .iter()
+                .zip(&whole)
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        );
     }
 }
