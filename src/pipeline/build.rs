@@ -94,13 +94,13 @@ pub(super) fn film_geometry(
     if cloud.is_empty() {
         return Ok(SphereGeometry::build(&[], &[], &[], &[])?.into());
     }
+    // The detail first: the neighbour table (96 B a particle) is dropped here, used or not,
+    // before any tree's build allocates, so the two never add up at the peak.
+    let detail = (film.primitive == Primitive::Disk && film.first_order_detail)
+        .then(|| detail(&cloud.positions, normals, thickness, neighbours));
     if film.primitive == Primitive::Mls {
         return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
     }
-    // The detail first: its neighbour table (96 B a particle) is dropped before the tree's
-    // build allocates, so the two never add up at the peak.
-    let detail = (film.primitive == Primitive::Disk && film.first_order_detail)
-        .then(|| detail(&cloud.positions, normals, thickness, neighbours));
     let mut splats =
         FilmGeometry::particles(film.primitive, &cloud.positions, normals, radii, thickness)?;
     if let FilmGeometry::Disks(disks) = &mut splats {

@@ -178,8 +178,7 @@ pub(super) fn films(
         ..Films::default()
     };
     for part in films {
-        let keep_table = single && film.first_order_detail;
-        let (cloud, table, had_radius) = complete(part, film, repairing, keep_table, notes)?;
+        let (cloud, table, had_radius) = complete(part, film, repairing, notes)?;
         out.had_radius &= had_radius;
         if single {
             out.neighbours = table;
@@ -197,13 +196,11 @@ pub(super) fn films(
 
 /// One film part made ready to draw: validated (or repaired), coincident copies dropped,
 /// thickness scaled, what is missing estimated, radii fitted. Returns the neighbour table if
-/// one was built (by the estimate, or for the fit when `keep_table`: the caller will reuse
-/// 12 neighbours a particle), and whether the part came with radii.
+/// one was built (by the estimate, or for the fit), and whether the part came with radii.
 fn complete(
     part: CloudPart,
     film: &FilmConfig,
     repairing: bool,
-    keep_table: bool,
     notes: &mut Vec<Note>,
 ) -> Result<(PointCloud, Option<KnnTable>, bool)> {
     let label = part.label;
@@ -246,11 +243,11 @@ fn complete(
         && let Some(r) = cloud.radius.as_mut()
     {
         // Radii fitted to the sampling: no pinholes inside, no bulge at open edges. The
-        // estimate's table serves if it has the neighbours. Else, when the disks' first-order
-        // detail will want the same 12 neighbours, one whole table is searched for both (the
-        // memory estimate counts it); else a sliced search.
+        // estimate's table serves if it has the neighbours; else one whole table is searched
+        // (the memory estimate counts it: 96 B a particle), which the disks' first-order
+        // detail then reuses, and which parallelises better than slices of rows.
         let index = PointIndex::build(&cloud.positions);
-        if keep_table && table.as_ref().is_none_or(|t| t.k < FAN_NEIGHBOURS) {
+        if table.as_ref().is_none_or(|t| t.k < FAN_NEIGHBOURS) {
             table = Some(KnnTable::build_with(
                 &index,
                 &cloud.positions,
