@@ -17,6 +17,11 @@ out=${OUT:-/tmp/filmsplat-remeasure}
 mkdir -p "$out"
 [ -x "$bin" ] || { echo "build first: cargo build --release --all-targets" >&2; exit 2; }
 
+# The peer sections need bpy, pysplashsurf, colour-science, numpy and OpenEXR, and the suite's
+# plot matplotlib: PEERS_PY names a python that has them (python3 -m venv V && V/bin/pip install
+# bpy pysplashsurf colour-science numpy OpenEXR matplotlib; default python3).
+peers_py=${PEERS_PY:-python3}
+
 cloud() { # N -> path of the bubble sample with N particles, made once
   local f="$out/bubble_$1.ply"
   [ -f "$f" ] || "$bin" sample bubble --particles "$1" -o "$f" >/dev/null
@@ -75,19 +80,22 @@ section_fixed() {
 
 section_suite() {
   for n in 100000 1000000 4000000 10000000; do cloud $n >/dev/null; done
-  python3 benches/suite.py --particles 100000,1000000,4000000,10000000 --size 1280x720 \
+  "$peers_py" benches/suite.py --particles 100000,1000000,4000000,10000000 --size 1280x720 \
     --primitives disk,mls,sphere --shadings lut --out "$out"
+  [ -f "$out/suite.png" ] && cp "$out/suite.png" samples/images/suite.png
 }
 
 section_shadings() {
   cloud 1000000 >/dev/null
+  mkdir -p "$out/shadings"
   python3 benches/suite.py --particles 1000000 --size 1280x720 --primitives disk,mls,sphere \
-    --shadings lut,rgb:4,rgb:8,rgb:16,rgb:32,spectral:8,spectral:16 --out "$out"
+    --shadings lut,rgb:4,rgb:8,rgb:16,rgb:32,spectral:8,spectral:16 --out "$out/shadings"
 }
 
 section_tradeoffs() {
   FILMSPLAT_BENCH_PARTICLES=100000 FILMSPLAT_BENCH_SIZE=320x180 \
     FILMSPLAT_BENCH_PRIMITIVES=disk,mls,sphere cargo bench --quiet --bench tradeoffs
+  cp target/tradeoffs.png samples/images/tradeoffs.png
 }
 
 section_studio() { cargo bench --quiet --bench studio; }
@@ -97,10 +105,6 @@ section_io() {
   cargo bench --quiet --bench io_formats
 }
 
-# The peer sections need bpy, pysplashsurf, colour-science, numpy and OpenEXR: PEERS_PY names a
-# python that has them (python3 -m venv V && V/bin/pip install bpy pysplashsurf colour-science
-# numpy OpenEXR; default python3).
-peers_py=${PEERS_PY:-python3}
 
 section_cycles() {
   "$peers_py" benches/peers/cycles_bubble.py --particles 200000 --size 320x240 --roulette 0,0.3 \
