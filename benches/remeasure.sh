@@ -105,7 +105,6 @@ section_io() {
   cargo bench --quiet --bench io_formats
 }
 
-
 section_cycles() {
   "$peers_py" benches/peers/cycles_bubble.py --particles 200000 --size 320x240 --roulette 0,0.3 \
     --out "$out/cycles" --png samples/images/peers_cycles.png

@@ -114,9 +114,6 @@ pub fn fit_radii(
     radii: &mut [f32],
     table: Option<&KnnTable>,
 ) -> GapReport {
-    if positions.len() < 3 {
-        return GapReport::default();
-    }
     fit_radii_indexed(
         &PointIndex::build(positions),
         positions,
