@@ -18,6 +18,10 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check)
 # with the same features are reused.
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
 export CARGO_BUILD_JOBS="${CARGO_BUILD_JOBS:-2}"
+# The package's own lock file must be current: a stale one would be rewritten by the build
+# (a tracked file changed by `pip install ./python`). Checked here, and the build is --locked.
+cargo metadata --locked --format-version 1 --manifest-path "$root/python/Cargo.toml" >/dev/null
+export MATURIN_PEP517_ARGS="${MATURIN_PEP517_ARGS:---locked}"
 "${pip[@]}" install -q --no-build-isolation --no-deps --force-reinstall "$root/python"
 built=$(date +%s)
 echo "python: venv and build took $((built - start)) s"

@@ -23,7 +23,8 @@ if [ ! -f "$modules/node_modules/playwright-core/package.json" ]; then
     mkdir -p "$modules"
     npm install --silent --no-audit --no-fund --prefix "$modules" playwright-core@1 >/dev/null
 fi
-cargo build --release --quiet
+# Fresh after `cargo test --release` (same features, same profile): nothing is compiled again.
+cargo build --release --locked --quiet
 script="${1:-tests/browser/view.test.cjs}"
 shift || true
 FILMSPLAT_PLAYWRIGHT="$PWD/$modules/node_modules/playwright-core" \
