@@ -8,6 +8,7 @@
 # without it the example writes the renders only.
 
 # %%
+import os
 import pathlib
 import sys
 
@@ -18,6 +19,8 @@ import filmsplat
 here = pathlib.Path(__file__).resolve().parent
 frame_path = here.parents[1] / "tests" / "data" / "splishsplash_sphere_shell.ply"
 out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+# The tests run it at 64x48 (FILMSPLAT_EXAMPLE_SIZE); the picture below is 480x360.
+width, height = map(int, os.environ.get("FILMSPLAT_EXAMPLE_SIZE", "480x360").split("x"))
 out.mkdir(parents=True, exist_ok=True)
 
 frame = filmsplat.read(frame_path)
@@ -34,7 +37,7 @@ swirl = 60 * np.sin(6 * np.arctan2(p[:, 2], p[:, 0]) + 4 * y)
 thickness_nm = 150 + 750 * ((1 - y) / 2) ** 1.5 + swirl
 cloud = filmsplat.Cloud(p, radius=frame.radius, thickness_nm=thickness_nm)
 
-scene = filmsplat.Scene(cloud, preset="balanced", width=480, height=360)
+scene = filmsplat.Scene(cloud, preset="balanced", width=width, height=height)
 image = scene.render(progress=False)
 image.save(out / "python_shell.png")
 scene.render(view="thickness", progress=False).save(out / "python_shell_thickness.png")
