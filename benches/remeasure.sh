@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Re-measures the figures of the README's "Speed" section, one section at a time, and logs what
+# Re-measures the figures of docs/benchmarks.md, one section at a time, and logs what
 # each printed with the load average before and after. Run it on a quiet machine; nothing is
 # asserted. Usage:
 #

@@ -33,7 +33,7 @@ fn filmsplat_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn the_readme_sequence_commands_work_in_an_empty_folder() {
-    // README: `filmsplat sample catenoid -o 'cat/{:04}.ply' --frames 0..48 --sparse 0.2`
+    // docs/sequences.md: `filmsplat sample catenoid -o 'cat/{:04}.ply' --frames 0..48 --sparse 0.2`
     // (fewer particles and frames here), then the Slurm job array's render of every shard.
     let dir = empty("readme");
     let (code, _, err) = filmsplat_in(

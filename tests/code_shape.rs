@@ -1,6 +1,6 @@
 //! The shape of the code, checked: no source file over 500 lines, no function over 80 lines,
 //! and no import cycle between the files of one module (a type two files share lives in a
-//! file of its own). Reads the sources as text; see README "Architecture".
+//! file of its own). Reads the sources as text; see docs/architecture.md.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

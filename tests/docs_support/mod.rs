@@ -144,12 +144,35 @@ pub fn repo_paths(text: &str) -> Vec<String> {
     out
 }
 
-/// Whether `target` (a link target relative to `doc`, or a path relative to the root) exists.
+/// Whether `target` (a link target relative to `doc`, or a path relative to the root) exists,
+/// and, for a markdown file with `#anchor`, whether that file has a heading of that anchor.
 pub fn exists(doc: &str, target: &str) -> bool {
-    let path = target.split('#').next().unwrap();
-    if path.is_empty() {
+    let (path, anchor) = target.split_once('#').unwrap_or((target, ""));
+    let base = Path::new(doc).parent().unwrap_or(Path::new(""));
+    let file = if path.is_empty() {
+        root().join(doc)
+    } else {
+        root().join(base).join(path)
+    };
+    if !file.exists() {
+        return false;
+    }
+    if anchor.is_empty() || file.extension().is_none_or(|e| e != "md") {
         return true;
     }
-    let base = Path::new(doc).parent().unwrap_or(Path::new(""));
-    root().join(base).join(path).exists()
+    let text = std::fs::read_to_string(&file).unwrap_or_default();
+    text.lines()
+        .filter_map(|l| l.strip_prefix('#'))
+        .any(|h| slug(h.trim_start_matches('#')) == anchor)
+}
+
+/// GitHub's anchor of a heading: lower case, punctuation but `-` and `_` dropped, spaces to `-`.
+pub fn slug(heading: &str) -> String {
+    heading
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || matches!(c, ' ' | '-' | '_'))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
 }
