@@ -14,12 +14,13 @@ fi
 export PATH="$venv/bin:$PATH"
 pip=("$venv/bin/python" -m pip --disable-pip-version-check)
 "${pip[@]}" install -q 'maturin>=1.5,<2' 'numpy>=1.21' 'pytest>=7'
-# One release build, in the main crate's target folder: dependencies that cargo test built
-# with the same features are reused.
+# One release build, in the workspace's target folder: this crate and the dependencies that
+# cargo test built with the same features are reused.
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
 export CARGO_BUILD_JOBS="${CARGO_BUILD_JOBS:-2}"
-# The package's own lock file must be current: a stale one would be rewritten by the build
-# (a tracked file changed by `pip install ./python`). Checked here, and the build is --locked.
+# The workspace's lock file (Cargo.lock, which python/ shares) must be current: a stale one
+# would be rewritten by the build (a tracked file changed by `pip install ./python`). Checked
+# here, and the build is --locked.
 cargo metadata --locked --format-version 1 --manifest-path "$root/python/Cargo.toml" >/dev/null
 export MATURIN_PEP517_ARGS="${MATURIN_PEP517_ARGS:---locked}"
 "${pip[@]}" install -q --no-build-isolation --no-deps --force-reinstall "$root/python"
