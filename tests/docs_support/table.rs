@@ -281,6 +281,10 @@ pub const TABLE: &[(&str, How)] = &[
         NotRun("needs Blender's bpy (PEERS_PY) and minutes of Cycles"),
     ),
     (
+        "git clone /path/to/filmsplat /tmp/fresh && cd /tmp/fresh && time bash .ci/run",
+        NotRun("the whole test command from scratch (this test is part of it)"),
+    ),
+    (
         "bash benches/headline.sh",
         Instead("HEADLINE_SIZE=64x48 FILMSPLAT=filmsplat bash {root}/benches/headline.sh 1"),
     ),
