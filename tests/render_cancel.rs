@@ -1,4 +1,5 @@
-//! The render's hooks for callers (the Python package): a cancel flag and a tile counter.
+//! The render's hooks for callers (the Python package, the viewer): a cancel flag that stops
+//! even inside a tile, a tile counter, and the one spp range.
 
 use filmsplat::Error;
 use filmsplat::pipeline;
@@ -61,4 +62,47 @@ fn prepare_with_an_in_memory_cloud_equals_the_same_cloud_from_the_scene() {
         pipeline::render(&from_memory).unwrap(),
     );
     assert_eq!(a.rgb, b.rgb);
+}
+
+#[test]
+fn a_cancel_raised_inside_a_tile_stops_it() {
+    // One 16x16 tile at the most samples a pixel may have: minutes of work in that tile alone
+    // (16.8 M camera samples), so a render that looked at the flag only between tiles would
+    // run past the cap below.
+    let mut p = prepared();
+    (p.settings.width, p.settings.height) = (16, 16);
+    p.settings.spp = filmsplat::render::MAX_SPP;
+    let cancel = Arc::new(AtomicBool::new(false));
+    p.settings.cancel = Some(cancel.clone());
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(pipeline::render(&p).map(|_| ()));
+    });
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    cancel.store(true, Ordering::Relaxed);
+    let r = rx
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .expect("the render went on inside its tile after the cancel");
+    assert!(matches!(r, Err(Error::Cancelled)), "{r:?}");
+}
+
+#[test]
+fn spp_has_one_range_for_every_way_in() {
+    let scene = |spp: &str| {
+        SceneDesc::from_toml(
+            &format!("[input]\nsample = \"bubble\"\n[render]\nspp = {spp}\n"),
+            "spp.toml",
+        )
+        .unwrap()
+    };
+    for bad in ["0", "65537", "4294967295"] {
+        let e = scene(bad).resolve(Path::new(".")).unwrap_err().to_string();
+        assert!(e.contains("render.spp") && e.contains("65536"), "{e}");
+    }
+    assert!(scene("65536").resolve(Path::new(".")).is_ok());
+    // The render itself refuses what bypasses the configuration.
+    let mut p = prepared();
+    p.settings.spp = u32::MAX;
+    let e = pipeline::render(&p).unwrap_err().to_string();
+    assert!(e.contains("65536"), "{e}");
 }

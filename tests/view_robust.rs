@@ -221,13 +221,14 @@ fn many_tabs_at_once_all_get_their_pictures() {
 fn beyond_the_connection_limit_a_503_and_then_service_again() {
     let s = start(SCENE);
     let limit = filmsplat::view::server::MAX_CONNECTIONS;
-    // Hold `limit` keep-alive connections open, each with one answered request.
+    // Hold `limit` keep-alive connections of token holders open, each with one answered
+    // request.
     let held: Vec<TcpStream> = (0..limit)
         .map(|_| {
             let mut c = TcpStream::connect(s.addr).unwrap();
-            c.write_all(b"GET /favicon.ico HTTP/1.1\r\nHost: t\r\n\r\n")
-                .unwrap();
-            assert_eq!(read_one(&mut c).status, 204);
+            let req = format!("GET /api/camera?token={TOKEN}&{CAMERA} HTTP/1.1\r\n\r\n");
+            c.write_all(req.as_bytes()).unwrap();
+            assert_eq!(read_one(&mut c).status, 200);
             c
         })
         .collect();

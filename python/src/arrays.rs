@@ -34,18 +34,35 @@ fn shape_error(name: &str, want: &str, shape: &[usize]) -> PyErr {
     invalid(format!("{name} must have shape {want}, got {shape:?}"))
 }
 
+/// The length of `ob`'s first axis, read from its shape without copying an array (`0` for a
+/// scalar). Sizes a caller chooses are checked with it before anything is allocated.
+pub fn leading_len(ob: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
+    let np = ob.py().import("numpy")?;
+    let shape: Vec<usize> = np
+        .call_method1("shape", (ob,))
+        .and_then(|s| s.extract())
+        .map_err(|e| invalid(format!("{name}: not an array of numbers ({e})")))?;
+    Ok(shape.first().copied().unwrap_or(0))
+}
+
+/// A `Vec` for `n` values of `name`, allocated through the memory allowance
+/// (`filmsplat::budget`): refused with a `ValueError` instead of aborting the interpreter.
+fn reserve<T>(n: usize, name: &str) -> PyResult<Vec<T>> {
+    filmsplat::budget::vec_with_capacity(n, || format!("{name}: {n} values")).map_err(invalid)
+}
+
 /// An (N, 3) array as N points or vectors (f32).
 pub fn vec3s(ob: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<Vec3>> {
     fn rows<T: Copy + Into<f64>>(a: ArrayViewD<'_, T>, name: &str) -> PyResult<Vec<Vec3>> {
         if a.ndim() != 2 || a.shape()[1] != 3 {
             return Err(shape_error(name, "(N, 3)", a.shape()));
         }
-        Ok(a.axis_iter(Axis(0))
-            .map(|r| {
-                let c = |i: usize| r[[i]].into() as f32;
-                Vec3::new(c(0), c(1), c(2))
-            })
-            .collect())
+        let mut out = reserve(a.shape()[0], name)?;
+        out.extend(a.axis_iter(Axis(0)).map(|r| {
+            let c = |i: usize| r[[i]].into() as f32;
+            Vec3::new(c(0), c(1), c(2))
+        }));
+        Ok(out)
     }
     with_view(ob, name, |a| rows(a, name), |a| rows(a, name))
 }
@@ -61,7 +78,9 @@ pub fn scalars(ob: &Bound<'_, PyAny>, name: &str, n: Option<usize>) -> PyResult<
             let want = n.map_or("(N,)".to_string(), |n| format!("({n},)"));
             return Err(shape_error(name, &want, a.shape()));
         }
-        Ok(a.iter().map(|v| (*v).into() as f32).collect())
+        let mut out = reserve(a.len(), name)?;
+        out.extend(a.iter().map(|v| (*v).into() as f32));
+        Ok(out)
     }
     with_view(ob, name, |a| flat(a, name, n), |a| flat(a, name, n))
 }

@@ -1,9 +1,10 @@
 //! `filmsplat.Cloud` and `filmsplat.read`.
 
-use crate::arrays::{scalars, to_numpy, vec3s, vec3s_to_numpy};
-use crate::errors::to_py;
+use crate::arrays::{leading_len, scalars, to_numpy, vec3s, vec3s_to_numpy};
+use crate::errors::{invalid, to_py};
 use filmsplat::io::{ReadOptions, read_cloud};
-use filmsplat::pointcloud::PointCloud;
+use filmsplat::pipeline::memory::MemoryEstimate;
+use filmsplat::pointcloud::{PointCloud, validate};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -32,6 +33,9 @@ impl Cloud {
         radius: Option<&Bound<'_, PyAny>>,
         attributes: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        // What the caller's arrays would make us hold, checked before any copy: a broadcast
+        // view of a billion rows is 24 bytes to numpy and a refusal here.
+        check_particles(leading_len(positions, "positions")?, "Cloud")?;
         let positions = vec3s(positions, "positions")?;
         let n = positions.len();
         let normals = normals.map(|a| vec3s(a, "normals")).transpose()?;
@@ -53,15 +57,16 @@ impl Cloud {
             let values = scalars(&v, &format!("attributes['{name}']"), Some(n))?;
             extra.push((name, values));
         }
-        Ok(Cloud {
-            cloud: PointCloud {
-                positions,
-                normals,
-                thickness_nm,
-                radius,
-                extra,
-            },
-        })
+        let cloud = PointCloud {
+            positions,
+            normals,
+            thickness_nm,
+            radius,
+            extra,
+        };
+        // Bad values are refused where they enter, not at the first render.
+        validate(&cloud).map_err(|e| invalid(format!("Cloud: {e}")))?;
+        Ok(Cloud { cloud })
     }
 
     /// Particle centres, scene units: float32 array (N, 3) (a new copy each call).
@@ -128,6 +133,15 @@ impl Cloud {
                 .join(", ")
         )
     }
+}
+
+/// Refuses `n` particles whose render would not fit in the memory allowance: the same
+/// per-particle estimate (cloud, neighbour search, geometry) and allowance as the CLI's
+/// (`filmsplat::budget`), before anything is copied. `what` starts the message.
+pub fn check_particles(n: usize, what: &str) -> PyResult<()> {
+    let estimate = MemoryEstimate::new(n as u64, 0, 0, false, 0);
+    filmsplat::budget::check(estimate.total(), || format!("{what}: {n} particles"))
+        .map_err(invalid)
 }
 
 /// Reads a particle file or frame folder (every format the CLI reads) into a `Cloud`, with

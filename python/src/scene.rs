@@ -4,13 +4,15 @@
 use crate::cloud::Cloud;
 use crate::errors::{invalid, to_py};
 use crate::image::Image;
+use filmsplat::pipeline::config::{check_image_size, check_spp};
+use filmsplat::pipeline::memory::{MemoryEstimate, estimate_scene};
 use filmsplat::pipeline::{Prepared, camera, prepare_with};
 use filmsplat::pointcloud::PointCloud;
 use filmsplat::render::{View, render, render_view};
 use filmsplat::scene::SceneDesc;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, TryLockError, mpsc};
 use std::time::Duration;
@@ -65,6 +67,25 @@ fn merge(clouds: &[PyRef<'_, Cloud>]) -> PyResult<PointCloud> {
     Ok(all)
 }
 
+/// Refuses a scene whose estimated peak memory (the CLI's estimate: particles of `clouds`, or
+/// of the scene's inputs as their headers say, and the image) exceeds the allowance, before
+/// the clouds are merged or anything is read. An input the estimate cannot read is left to
+/// the reader, which names the problem better.
+fn check_memory(desc: &SceneDesc, base: &Path, clouds: Option<&[PyRef<'_, Cloud>]>) -> PyResult<()> {
+    let estimate = match clouds {
+        Some(c) => {
+            let n: usize = c.iter().map(|c| c.cloud.len()).sum();
+            let (w, h) = (desc.render.width.unwrap_or(960), desc.render.height.unwrap_or(540));
+            MemoryEstimate::new(n as u64, w, h, false, 0)
+        }
+        None => match estimate_scene(desc, base, false) {
+            Ok(e) => e,
+            Err(_) => return Ok(()),
+        },
+    };
+    filmsplat::budget::check(estimate.total(), || format!("Scene: {estimate}")).map_err(invalid)
+}
+
 /// A built scene: the geometry, the shader and the settings of one scene description.
 #[pyclass(frozen, name = "_Scene", module = "filmsplat._native")]
 pub struct NativeScene {
@@ -97,6 +118,7 @@ impl NativeScene {
         clouds: Option<Vec<PyRef<'_, Cloud>>>,
     ) -> PyResult<Self> {
         let desc = SceneDesc::from_toml(toml, name).map_err(to_py)?;
+        check_memory(&desc, &base, clouds.as_deref())?;
         let cloud = match clouds {
             Some(c) if c.is_empty() => return Err(invalid("Scene: no clouds given")),
             Some(c) => Some(merge(&c)?),
@@ -158,18 +180,14 @@ impl NativeScene {
             }
         };
         let mut settings = p.settings.clone();
+        // The same checks as a scene file's keys: the size against the memory allowance before
+        // any buffer is allocated, spp within 1..=65536.
         if let Some((w, h)) = size {
-            if w == 0 || h == 0 || w > 32_768 || h > 32_768 {
-                return Err(invalid(format!(
-                    "image size must be between 1x1 and 32768x32768, got {w}x{h}"
-                )));
-            }
+            check_image_size(w, h).map_err(to_py)?;
             (settings.width, settings.height) = (w, h);
         }
         if let Some(s) = spp {
-            if s == 0 {
-                return Err(invalid("render.spp must be at least 1"));
-            }
+            check_spp(s).map_err(to_py)?;
             settings.spp = s;
         }
         if let Some(s) = seed {

@@ -165,7 +165,7 @@ def test_bad_scenes_raise_with_the_cli_message(shell_cloud, kwargs, error, messa
 def test_bad_renders_and_bad_clouds_raise(shell_scene):
     with pytest.raises(ValueError, match="image size must be between 1x1 and 32768x32768"):
         shell_scene.render(size=(0, 10))
-    with pytest.raises(ValueError, match="spp must be at least 1"):
+    with pytest.raises(ValueError, match="spp must be between 1 and 65536"):
         shell_scene.render(spp=0)
     with pytest.raises(ValueError, match="view"):
         shell_scene.render(view="x-ray")

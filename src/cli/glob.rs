@@ -84,6 +84,32 @@ pub(super) fn with_stem(output: &Path, input: &Path) -> PathBuf {
     PathBuf::from(output.to_string_lossy().replace("{stem}", &stem))
 }
 
+/// Refuses two inputs whose outputs (`outputs(input)`) share a file, as `{stem}` gives for
+/// `a.ply` and `a.csv`: one would silently overwrite the other.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the output and both inputs.
+pub(super) fn refuse_shared_outputs(
+    inputs: &[PathBuf],
+    outputs: impl Fn(&Path) -> Vec<PathBuf>,
+) -> Result<()> {
+    let mut seen: std::collections::HashMap<PathBuf, &Path> = std::collections::HashMap::new();
+    for input in inputs {
+        for o in outputs(input) {
+            if let Some(before) = seen.insert(o.clone(), input) {
+                return Err(Error::invalid(format!(
+                    "{}: both {} and {} would be written to this file; name the outputs so \
+                     they differ (or narrow the pattern)",
+                    o.display(),
+                    before.display(),
+                    input.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,8 +4,10 @@
 pub use super::render_args::RenderArgs;
 use super::render_one::render_one;
 use super::{glob, sequence};
+use crate::pipeline::sequence as seq;
 use crate::{Error, Result};
 use std::io::Write;
+use std::path::{Path, PathBuf};
 
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
@@ -29,7 +31,9 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
 
 /// Renders every match of a quoted glob input (`'frames/*.ply'`), sorted by name, as a sequence:
 /// `{stem}` in -o (and --exr) names each output after its input; the n-th match's seed is the
-/// seed plus n.
+/// seed plus n. `--shard K/N` renders every N-th match from the K-th; outputs are checked
+/// first (two matches with one output name, such as `a.ply` and `a.csv`, are refused); resume
+/// skips finished outputs as the frame sequences do ([`seq::finished`]).
 fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let pattern = a.inputs.first().cloned().unwrap_or_default();
     let inputs = glob::expand(&pattern)?;
@@ -50,37 +54,36 @@ fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
             )));
         }
     }
+    let outputs = |input: &Path| -> Vec<PathBuf> {
+        std::iter::once(glob::with_stem(output, input))
+            .chain(a.exr.as_ref().map(|e| glob::with_stem(e, input)))
+            .collect()
+    };
+    glob::refuse_shared_outputs(&inputs, outputs)?;
+    let all: Vec<u64> = (0..inputs.len() as u64).collect();
+    let mine = seq::sharded(&all, a.shard);
+    seq::check_outputs(&mine, |n| Ok(outputs(&inputs[n as usize])))?;
     let mut failed = Vec::new();
-    for (n, input) in inputs.iter().enumerate() {
-        let mut one = a.clone();
-        one.inputs = vec![input.clone()];
-        one.output = Some(glob::with_stem(output, input));
-        one.exr = a.exr.as_ref().map(|e| glob::with_stem(e, input));
-        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(n as u64));
-        let target = one.output.clone().expect("set");
-        if a.resume
-            && std::iter::once(&target)
-                .chain(one.exr.as_ref())
-                .all(|p| p.exists())
-        {
-            if !a.quiet {
-                let _ = writeln!(
-                    out,
-                    "{}: {} exists, skipped",
-                    input.display(),
-                    target.display()
-                );
-            }
+    for (k, &n) in mine.iter().enumerate() {
+        let input = &inputs[n as usize];
+        let these = outputs(input);
+        let label = input.display().to_string();
+        if a.resume && seq::finished(&label, &these, a.quiet, out)? {
             continue;
         }
+        seq::refuse_directories(&these)?;
         if !a.quiet {
-            let _ = writeln!(out, "{} ({}/{}):", input.display(), n + 1, inputs.len());
+            let _ = writeln!(out, "{label} ({}/{}):", k + 1, mine.len());
         }
+        let mut one = a.clone();
+        one.inputs = vec![input.clone()];
+        (one.output, one.exr) = (these.first().cloned(), these.get(1).cloned());
+        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(n));
         match render_one(&one, out, None) {
             Ok(()) => {}
             Err(e) if a.keep_going => {
                 eprintln!("filmsplat: error: {e}");
-                failed.push(input.display().to_string());
+                failed.push(label);
             }
             Err(e) => return Err(e),
         }
@@ -89,7 +92,7 @@ fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
         return Err(Error::invalid(format!(
             "{} of {} inputs failed: {}",
             failed.len(),
-            inputs.len(),
+            mine.len(),
             failed.join(", ")
         )));
     }

@@ -38,7 +38,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) preset: Option<String>,
     /// Camera samples per pixel.
-    #[arg(long, value_parser = super::parse::int_in::<u32>(1, 65_536))]
+    #[arg(long, value_parser = super::parse::int_in::<u32>(1, crate::render::MAX_SPP))]
     pub(super) spp: Option<u32>,
     /// Image size WIDTHxHEIGHT in pixels (default 960x540).
     #[arg(long, value_parser = super::parse::size)]
@@ -168,8 +168,9 @@ pub struct RenderArgs {
     /// is the seed plus the frame number.
     #[arg(long, value_parser = super::parse::frame_list)]
     pub(super) frames: Option<super::parse::FrameList>,
-    /// Render only every N-th frame of --frames, starting at the K-th (K/N, 0 <= K < N), so N
-    /// jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split a sequence without talking.
+    /// Render only every N-th frame of --frames (or match of a quoted glob), starting at the
+    /// K-th (K/N, 0 <= K < N), so N jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split
+    /// a sequence without talking.
     #[arg(long, value_parser = super::parse::shard)]
     pub(super) shard: Option<(u64, u64)>,
     /// With --frames and no camera position: auto-frame the sequence's one camera on the union
@@ -181,9 +182,10 @@ pub struct RenderArgs {
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
     pub(super) frame: Option<u64>,
-    /// Skip frames whose output file already exists (outputs are renamed into place only when
-    /// complete, so an existing file is a finished frame), and remove the hidden temporary
-    /// files (`.NAME.tmp-PID-N`) a killed run left for the frames of this run.
+    /// Skip frames whose output files already exist as regular files (outputs are renamed into
+    /// place only when complete, so such a file is a finished frame; a directory there is an
+    /// error), and remove the hidden temporary files (`.NAME.tmp-…`) that writers no longer
+    /// running left for the frames of this run (a running job's are kept).
     #[arg(long)]
     pub(super) resume: bool,
     /// Report a frame that fails and go on with the others (exit code 2 at the end if any

@@ -45,43 +45,66 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
         keep_going: a.keep_going,
         quiet: a.quiet,
     };
-    let job = Frames { a, out_pattern };
+    // One copy of the arguments without the frame list: each frame's copy is then small
+    // (copying the list for every frame made the checks quadratic in the frames).
+    let mut base = a.clone();
+    base.frames = None;
+    base.frame_all = false;
+    let exr_pattern = a.exr.as_ref().map(|e| e.to_string_lossy().into_owned());
+    let job = Frames {
+        a: base,
+        out_pattern,
+        exr_pattern,
+    };
     crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())
 }
 
 /// The frames of one `render --frames` command line.
-struct Frames<'a> {
-    a: &'a RenderArgs,
+struct Frames {
+    /// The command line's arguments without its frame list.
+    a: RenderArgs,
     /// `-o`, with its frame pattern.
     out_pattern: String,
+    /// `--exr`, if given (a frame pattern in it or not).
+    exr_pattern: Option<String>,
 }
 
-impl Frames<'_> {
+impl Frames {
     /// The arguments of frame `f`: its outputs and seed (the seed plus the frame number); each
     /// input's pattern is expanded for `frame` by [`scene_from_args`].
     fn args(&self, f: u64) -> Result<RenderArgs> {
-        let a = self.a;
-        let mut one = a.clone();
-        one.frames = None;
-        one.frame_all = false;
+        let mut one = self.a.clone();
         one.frame = Some(f);
-        one.output = Some(PathBuf::from(
-            expand(&self.out_pattern, f)?.expect("checked"),
-        ));
-        if let Some(exr) = &a.exr {
-            one.exr = expand(&exr.to_string_lossy(), f)?
-                .map(PathBuf::from)
-                .or(Some(exr.clone()));
-        }
-        one.seed = Some(a.seed.unwrap_or(0).wrapping_add(f));
+        let [output, exr] = self.output_paths(f)?;
+        (one.output, one.exr) = (output, exr);
+        one.seed = Some(self.a.seed.unwrap_or(0).wrapping_add(f));
         Ok(one)
+    }
+
+    /// Frame `f`'s image and EXR paths, from the patterns alone (no copy of the arguments).
+    fn output_paths(&self, f: u64) -> Result<[Option<PathBuf>; 2]> {
+        let output = expand(&self.out_pattern, f)?.expect("checked");
+        let exr = match &self.exr_pattern {
+            Some(e) => Some(expand(e, f)?.unwrap_or_else(|| e.clone())),
+            None => None,
+        };
+        Ok([Some(PathBuf::from(output)), exr.map(PathBuf::from)])
     }
 }
 
-impl FrameJob for Frames<'_> {
+impl FrameJob for Frames {
     fn outputs(&self, f: u64) -> Result<Vec<PathBuf>> {
-        let one = self.args(f)?;
-        Ok(one.output.into_iter().chain(one.exr).collect())
+        Ok(self.output_paths(f)?.into_iter().flatten().collect())
+    }
+
+    fn inputs(&self, f: u64) -> Result<Vec<PathBuf>> {
+        let (desc, base) = scene_from_args(&self.args(f)?)?;
+        let paths = desc.input.paths();
+        Ok(paths
+            .into_iter()
+            .filter(|p| p.as_os_str() != "-")
+            .map(|p| base.join(p))
+            .collect())
     }
 
     fn scene(&self, f: u64) -> Result<SceneDesc> {

@@ -11,7 +11,7 @@
 use crate::geometry::Primitive;
 use crate::image::{Grade, ToneMap};
 use crate::optics::check_film_params;
-use crate::render::{Preset, RenderSettings, ShadingMode, View};
+use crate::render::{MAX_SPP, Preset, RenderSettings, ShadingMode, View};
 use crate::scene::{CameraDesc, EnvironmentDesc, OutputDesc, SceneDesc};
 use crate::spectrum::WavelengthStrategy;
 use crate::{Error, Result};
@@ -176,9 +176,6 @@ impl SceneDesc {
         let view: View = parse_enum(&self.render.view, View::Shaded, "render.view")?;
         let settings = settings(self, preset, primitive)?;
         let exposure_ev = exposure(&self.output)?;
-        if settings.spp == 0 {
-            return Err(Error::invalid("render.spp must be at least 1"));
-        }
         let wavelengths = wavelengths(
             self.render.wavelengths.unwrap_or(defaults.wavelengths),
             shading,
@@ -268,20 +265,8 @@ fn settings(d: &SceneDesc, preset: Preset, primitive: Primitive) -> Result<Rende
         prop_bounces: r.prop_bounces.unwrap_or(1).min(8),
         ..RenderSettings::default()
     };
-    let (w, h) = (settings.width, settings.height);
-    if w == 0 || h == 0 || w > 32_768 || h > 32_768 {
-        return Err(Error::invalid(format!(
-            "image size must be between 1x1 and 32768x32768, got {w}x{h}"
-        )));
-    }
-    // The image buffers are allocated after the cloud is loaded: refuse a size that cannot fit
-    // before anything is read.
-    let pixels = w as u64 * h as u64;
-    crate::budget::check(
-        pixels * (super::memory::RENDER_BYTES_PER_PIXEL + super::memory::PNG_BYTES_PER_PIXEL),
-        || format!("a {w}x{h} render"),
-    )
-    .map_err(Error::invalid)?;
+    check_spp(settings.spp)?;
+    check_image_size(settings.width, settings.height)?;
     if !(0.0..=1.0).contains(&settings.roulette) {
         return Err(Error::invalid(format!(
             "render.roulette must be between 0 (off) and 1, got {}",
@@ -295,6 +280,42 @@ fn settings(d: &SceneDesc, preset: Preset, primitive: Primitive) -> Result<Rende
         )));
     }
     Ok(settings)
+}
+
+/// Checks `render.spp` against the one range of every way in (CLI flag, scene file, Python):
+/// 1..=[`MAX_SPP`].
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key, the range and the value.
+pub fn check_spp(spp: u32) -> Result<()> {
+    if (1..=MAX_SPP).contains(&spp) {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!(
+            "render.spp must be between 1 and {MAX_SPP}, got {spp}"
+        )))
+    }
+}
+
+/// Checks an image size of `w`×`h` pixels: each side 1..=32768, and the buffers of a shaded
+/// render and its PNG within the memory allowance ([`crate::budget`]). The buffers are
+/// allocated after the cloud is loaded: this refuses a size that cannot fit before anything
+/// is read or allocated.
+///
+/// # Errors
+/// [`Error::Invalid`] with the size and, over the allowance, what it needs.
+pub fn check_image_size(w: usize, h: usize) -> Result<()> {
+    if w == 0 || h == 0 || w > 32_768 || h > 32_768 {
+        return Err(Error::invalid(format!(
+            "image size must be between 1x1 and 32768x32768, got {w}x{h}"
+        )));
+    }
+    let pixels = w as u64 * h as u64;
+    crate::budget::check(
+        pixels * (super::memory::RENDER_BYTES_PER_PIXEL + super::memory::PNG_BYTES_PER_PIXEL),
+        || format!("a {w}x{h} render"),
+    )
+    .map_err(Error::invalid)
 }
 
 /// `output.exposure` (default 0 EV), checked to be within -64..64 EV.

@@ -163,8 +163,8 @@ impl Films {
     }
 }
 
-/// Readies every film ([`complete`]) and joins them into one cloud; then checks every
-/// thickness against the film's index.
+/// Readies every film ([`complete`], which checks every thickness against the film's index,
+/// naming the part's file) and joins them into one cloud.
 pub(super) fn films(
     films: Vec<CloudPart>,
     film: &FilmConfig,
@@ -190,7 +190,6 @@ pub(super) fn films(
     } else {
         PointCloud::concat(&clouds)
     };
-    check_thickness(&out.cloud, film.ior)?;
     Ok(out)
 }
 
@@ -211,16 +210,18 @@ fn complete(
     } else {
         validate(&cloud).map_err(name)?;
     }
+    let scale = film.thickness_scale;
+    if let Some(t) = cloud.thickness_nm.as_mut().filter(|_| scale != 1.0) {
+        t.iter_mut().for_each(|v| *v *= scale);
+    }
+    // Before anything is dropped, so the index is the particle's in its own file.
+    check_thickness(&cloud, film.ior).map_err(name)?;
     // Copies at one position would be a pile of identical disks no tree can split.
     let coincident = crate::pointcloud::dedupe::drop_coincident(&mut cloud);
     if coincident > 0 {
         notes.push(Note::new(format!(
             "{label}: {coincident} particles at the same position as an earlier one: drawn once"
         )));
-    }
-    let scale = film.thickness_scale;
-    if let Some(t) = cloud.thickness_nm.as_mut().filter(|_| scale != 1.0) {
-        t.iter_mut().for_each(|v| *v *= scale);
     }
     if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
         notes.push(Note::new(format!("{label}: {hint}")));

@@ -105,8 +105,14 @@ pub fn sharded(frames: &[u64], shard: Option<(u64, u64)>) -> Vec<u64> {
 
 /// What a sequence renders, frame by frame.
 pub trait FrameJob {
-    /// The files frame `f` writes: its image first, then any others (an EXR).
+    /// The files frame `f` writes: its image first, then any others (an EXR). Called once per
+    /// frame before the work, so it should cost little (not a copy of the whole frame list).
     fn outputs(&self, f: u64) -> Result<Vec<PathBuf>>;
+    /// The files frame `f` reads, if known: those of the first frame to render are checked to
+    /// exist before anything else (unless keep-going), so a missing input fails at once.
+    fn inputs(&self, _f: u64) -> Result<Vec<PathBuf>> {
+        Ok(Vec::new())
+    }
     /// Frame `f`'s scene description (before the sequence's camera is applied).
     fn scene(&self, f: u64) -> Result<SceneDesc>;
     /// Frame `f` prepared (for measuring its framing), without a progress bar.
@@ -157,15 +163,23 @@ pub fn render_sequence(
         return Err(Error::invalid("a sequence needs at least one frame"));
     }
     let mine = sharded(&opts.frames, opts.shard);
-    check_outputs(job, &mine)?;
+    if let Some(&f) = mine.first().filter(|_| !opts.keep_going) {
+        for p in job.inputs(f)? {
+            std::fs::metadata(&p)
+                .map_err(|e| Error::invalid(format!("frame {f}: {}", Error::io(&p, e))))?;
+        }
+    }
+    check_outputs(&mine, |f| job.outputs(f))?;
     // Decided before the first frame this job renders (not at all if it renders none).
     let mut camera: Option<Option<CameraDesc>> = None;
     let mut failed = Vec::new();
     for (n, &f) in mine.iter().enumerate() {
         let outputs = job.outputs(f)?;
-        if opts.resume && finished(f, &outputs, opts.quiet, out)? {
+        let label = format!("frame {f}");
+        if opts.resume && finished(&label, &outputs, opts.quiet, out)? {
             continue;
         }
+        refuse_directories(&outputs)?;
         let mut first = None;
         if camera.is_none() {
             let decided = sequence_camera(job, opts, out)?;
@@ -195,25 +209,68 @@ pub fn render_sequence(
     Ok(())
 }
 
-/// Fails before the work: every output of `frames` is a .png or .exr, and every folder they
-/// are written in exists (created) and takes files.
-fn check_outputs(job: &dyn FrameJob, frames: &[u64]) -> Result<()> {
+/// Fails before the work: every output of `frames` (`outputs(f)`) is a .png or .exr and not a
+/// directory, no two frames in a row write the same file (an output without a frame pattern),
+/// and every folder they are written in exists (created) and takes files (the first output of
+/// each folder is checked whole, see [`crate::atomic::prepare_output`]). Cost: linear in the
+/// frames (one `outputs` call and one `stat` an output, a set of the folders).
+///
+/// # Errors
+/// [`Error::Invalid`] naming the output and the frames.
+pub fn check_outputs(frames: &[u64], outputs: impl Fn(u64) -> Result<Vec<PathBuf>>) -> Result<()> {
     let mut ready = std::collections::BTreeSet::new();
+    let mut previous: Option<(u64, Vec<PathBuf>)> = None;
     for &f in frames {
-        for p in job.outputs(f)? {
-            super::output::check_extension(&p)?;
+        let these = outputs(f)?;
+        if let Some((g, before)) = &previous
+            && let Some(p) = these.iter().find(|p| before.contains(p))
+        {
+            return Err(Error::invalid(format!(
+                "{}: frames {g} and {f} would both write this file (put a frame pattern such \
+                 as {{:04}} in its name)",
+                p.display()
+            )));
+        }
+        refuse_directories(&these)?;
+        for p in &these {
+            super::output::check_extension(p)?;
             if ready.insert(p.parent().map(Path::to_path_buf)) {
-                crate::atomic::prepare_output(&p)?;
+                crate::atomic::prepare_output(p)?;
             }
         }
+        previous = Some((f, these));
     }
     Ok(())
 }
 
-/// For a resumed run: removes the hidden `.NAME.tmp-PID-N` files a run killed mid-write left
-/// for frame `f`'s `outputs` (this shard owns frame `f`), and says whether every output exists
-/// (the frame is finished: outputs are renamed into place only when complete).
-fn finished(f: u64, outputs: &[PathBuf], quiet: bool, out: &mut dyn Write) -> Result<bool> {
+/// Refuses outputs that are directories (a rename cannot replace them), naming the first.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the directory.
+pub fn refuse_directories(outputs: &[PathBuf]) -> Result<()> {
+    match outputs.iter().find(|p| p.is_dir()) {
+        Some(p) => Err(Error::invalid(format!(
+            "{}: is a directory, not an image (remove it or choose another output)",
+            p.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// For a resumed run: removes the hidden temporaries (`.NAME.tmp-…`) that writers no longer
+/// running left for `outputs` (a live writer's, e.g. a concurrent job's, are kept), and says
+/// whether the work `label` (`frame 12`, a glob's input) is finished: every output is a
+/// non-empty regular file (outputs are renamed into place only when complete).
+///
+/// # Errors
+/// [`Error::Invalid`] if an output is a directory or another non-file; [`Error::Io`] if a
+/// folder cannot be listed.
+pub fn finished(
+    label: &str,
+    outputs: &[PathBuf],
+    quiet: bool,
+    out: &mut dyn Write,
+) -> Result<bool> {
     let mut removed = 0;
     for t in outputs {
         removed += crate::atomic::remove_stale_temps(t)?;
@@ -221,15 +278,28 @@ fn finished(f: u64, outputs: &[PathBuf], quiet: bool, out: &mut dyn Write) -> Re
     if removed > 0 && !quiet {
         let _ = writeln!(
             out,
-            "frame {f}: removed {removed} unfinished temporary file(s) of an interrupted run"
+            "{label}: removed {removed} unfinished temporary file(s) of an interrupted run"
         );
     }
-    let done = outputs.iter().all(|p| p.exists());
+    refuse_directories(outputs)?;
+    let mut done = true;
+    for p in outputs {
+        match std::fs::metadata(p) {
+            Ok(m) if m.is_file() => done &= m.len() > 0,
+            Ok(_) => {
+                return Err(Error::invalid(format!(
+                    "{}: exists but is not a regular file (remove it or choose another output)",
+                    p.display()
+                )));
+            }
+            Err(_) => done = false,
+        }
+    }
     if done
         && !quiet
         && let Some(target) = outputs.first()
     {
-        let _ = writeln!(out, "frame {f}: {} exists, skipped", target.display());
+        let _ = writeln!(out, "{label}: {} exists, skipped", target.display());
     }
     Ok(done)
 }

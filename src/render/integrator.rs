@@ -16,7 +16,7 @@ use super::radiance::{Lanes, Radiance, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading, ShadingMode};
 use super::transport::{Branch, PathState, Tracer};
-use super::world::{RenderSettings, World};
+use super::world::{MAX_SPP, RenderSettings, World};
 use crate::geometry::SurfaceHit;
 use crate::{Error, Result};
 use glam::Vec3;
@@ -60,8 +60,11 @@ pub fn render(
             "image size must be at least 1x1, got {w}x{h}"
         )));
     }
-    if settings.spp == 0 {
-        return Err(Error::invalid("samples per pixel must be at least 1"));
+    if settings.spp == 0 || settings.spp > MAX_SPP {
+        return Err(Error::invalid(format!(
+            "samples per pixel must be between 1 and {MAX_SPP}, got {}",
+            settings.spp
+        )));
     }
     let tracer = Tracer::new(scene, settings);
     let tiles_x = w.div_ceil(TILE);
@@ -122,6 +125,10 @@ fn render_tile(tracer: &Tracer, shader: &FilmShader, x0: usize, y0: usize) -> Ti
     tile.pixels.reserve((x1 - x0) * (y1 - y0));
     for y in y0..y1 {
         for x in x0..x1 {
+            // A cancelled render stops inside its tile (the tile is dropped).
+            if cancelled(settings) {
+                return tile;
+            }
             let mut st = PathState {
                 rng: Pcg32::new(settings.seed, mix64((y * w + x) as u64)),
                 rays: 0,
@@ -281,6 +288,10 @@ fn render_pixel(
     let mut hit_samples = 0u32;
     let pattern = SubPixel::new(spp, &mut st.rng);
     for i in 0..spp {
+        // Up to 65536 samples a pixel: look at the cancel flag every 64.
+        if i % 64 == 63 && cancelled(tr.settings) {
+            break;
+        }
         let jitter = pattern.at(i, &mut st.rng);
         let (c, hit) = camera_sample(tr, shader, &px, jitter, st, shading, u);
         p.add(c, hit, &mut hit_samples);

@@ -39,6 +39,10 @@ pub struct Staging {
     pub droplets: Droplets,
 }
 
+/// Most camera samples per pixel, whichever way they are asked for (CLI flag, scene file,
+/// Python): 65536, about a minute per 16×16 tile of a small scene.
+pub const MAX_SPP: u32 = 65_536;
+
 /// How to render it.
 #[derive(Debug, Clone)]
 pub struct RenderSettings {
@@ -46,7 +50,7 @@ pub struct RenderSettings {
     pub width: usize,
     /// Image height, pixels.
     pub height: usize,
-    /// Camera samples per pixel.
+    /// Camera samples per pixel (1..=[`MAX_SPP`]).
     pub spp: u32,
     /// Most film crossings along one path.
     pub max_depth: u32,
@@ -69,8 +73,8 @@ pub struct RenderSettings {
     /// samples the material only (for checking: same mean, more noise).
     pub next_event: bool,
     /// Set it from another thread to stop the render: it is checked before each 16×16 tile,
-    /// and the render then returns [`crate::Error::Cancelled`] (so a stop costs at most one tile per
-    /// core).
+    /// each pixel and every 64 camera samples, and the render then returns
+    /// [`crate::Error::Cancelled`] (so a stop costs at most 64 samples of one pixel per core).
     pub cancel: Option<Arc<AtomicBool>>,
     /// Counts the finished 16×16 tiles (of `⌈width/16⌉·⌈height/16⌉`), for a caller's own
     /// progress display.

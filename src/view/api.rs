@@ -41,6 +41,10 @@ pub struct App {
     labels: Vec<String>,
     /// The connection's read timeout, restored after a watched render.
     pub request_timeout: Option<Duration>,
+    /// The whole time a client has to send one request: from the connection's opening for its
+    /// first request, from the first byte for later ones (default 10 s). A client that misses
+    /// it is answered 408 (or dropped, if it sent nothing) and its connection closed.
+    pub request_deadline: Duration,
     /// Film particles of the first frame.
     pub particles: usize,
 }
@@ -149,6 +153,7 @@ impl App {
             title,
             labels,
             request_timeout: Some(Duration::from_secs(10)),
+            request_deadline: Duration::from_secs(10),
             particles: built.particles,
         })
     }
@@ -161,6 +166,12 @@ impl App {
     /// The token clients must present.
     pub fn token(&self) -> &Token {
         &self.token
+    }
+
+    /// True if `req` carries the token (`?token=` or the `X-Filmsplat-Token` header).
+    pub fn authorized(&self, req: &Request) -> bool {
+        let given = req.param("token").or(req.header("x-filmsplat-token"));
+        given.is_some_and(|t| self.token.matches(t))
     }
 
     /// Answers `req`; `peer` is its connection, watched while a picture renders (a closed

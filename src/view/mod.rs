@@ -36,6 +36,7 @@
 //! server.run();
 //! ```
 
+pub mod admission;
 pub mod api;
 pub mod engine;
 pub mod http;

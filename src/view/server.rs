@@ -1,7 +1,13 @@
 //! The preview server's connections: an accept loop that stops when asked, one thread per
-//! connection (at most [`MAX_CONNECTIONS`]; beyond, 503), HTTP/1.1 keep-alive with an idle
-//! timeout, and a clear status for every request that cannot be read.
+//! connection, HTTP/1.1 keep-alive with an idle timeout, a deadline for the whole of each
+//! request, and a clear status for every request that cannot be read.
+//!
+//! Connections are admitted in two classes ([`admission`](super::admission)): a new connection
+//! is *pending* (a quota of its own, the oldest closed when it is full, closed at its deadline)
+//! until it sends a request with the token; then it holds one of [`MAX_CONNECTIONS`] trusted
+//! slots (beyond, 503). Slow or tokenless clients therefore never lock token holders out.
 
+use super::admission::{Deadlined, Pending};
 use super::api::App;
 use super::http::{ReadError, Response, read_request, write_response};
 use crate::{Error, Result};
@@ -11,7 +17,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-/// Most connections served at once (a browser opens ~6 a tab).
+/// Most connections of token holders served at once (a browser opens ~6 a tab).
 pub const MAX_CONNECTIONS: usize = 64;
 /// An idle keep-alive connection is closed after this long.
 const IDLE: Duration = Duration::from_secs(30);
@@ -21,10 +27,37 @@ const TICK: Duration = Duration::from_millis(25);
 /// A bound server, ready to run.
 pub struct Server {
     listener: TcpListener,
-    app: Arc<App>,
-    active: Arc<AtomicUsize>,
-    refusing: Arc<AtomicUsize>,
+    shared: Arc<Shared>,
+}
+
+/// What the connections' threads share.
+struct Shared {
+    app: App,
+    /// Trusted connections (a request with the token was read on them).
+    active: AtomicUsize,
+    pending: Pending,
     stop: Arc<AtomicBool>,
+}
+
+/// A trusted slot, given back when dropped.
+struct Slot<'a>(&'a AtomicUsize);
+
+impl Drop for Slot<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+impl Shared {
+    /// One of the [`MAX_CONNECTIONS`] trusted slots, or `None` if all are held.
+    fn take_slot(&self) -> Option<Slot<'_>> {
+        let taken = self
+            .active
+            .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| {
+                (n < MAX_CONNECTIONS).then_some(n + 1)
+            });
+        taken.ok().map(|_| Slot(&self.active))
+    }
 }
 
 impl Server {
@@ -39,12 +72,15 @@ impl Server {
         listener
             .set_nonblocking(true)
             .map_err(|e| Error::invalid(format!("{addr}: {e}")))?;
+        let shared = Shared {
+            app,
+            active: AtomicUsize::new(0),
+            pending: Pending::default(),
+            stop,
+        };
         Ok(Server {
             listener,
-            app: Arc::new(app),
-            active: Arc::new(AtomicUsize::new(0)),
-            refusing: Arc::new(AtomicUsize::new(0)),
-            stop,
+            shared: Arc::new(shared),
         })
     }
 
@@ -67,94 +103,75 @@ impl Server {
         format!(
             "http://{host}:{}/?token={}",
             a.port(),
-            self.app.token().as_str()
+            self.app().token().as_str()
         )
     }
 
     /// The routes' shared state.
     pub fn app(&self) -> &App {
-        &self.app
+        &self.shared.app
     }
 
-    /// Serves until the stop flag is raised; then cancels the pictures in flight and waits
-    /// (at most 2 s) for the connections to finish.
+    /// How many connections are pending (have not yet sent a request with the token).
+    pub fn pending(&self) -> usize {
+        self.shared.pending.len()
+    }
+
+    /// Serves until the stop flag is raised; then closes the pending connections, cancels the
+    /// pictures in flight and waits (at most 2 s) for the connections to finish.
     pub fn run(&self) {
-        while !self.stop.load(Ordering::Relaxed) {
+        let stop = &self.shared.stop;
+        while !stop.load(Ordering::Relaxed) {
             match self.listener.accept() {
                 Ok((stream, _)) => self.serve(stream),
                 Err(_) => std::thread::sleep(TICK),
             }
         }
-        self.app.session().cancel_all();
+        self.shared.pending.close_all();
+        self.app().session().cancel_all();
         let deadline = Instant::now() + Duration::from_secs(2);
-        while self.active.load(Ordering::SeqCst) > 0 && Instant::now() < deadline {
+        while self.shared.active.load(Ordering::SeqCst) > 0 && Instant::now() < deadline {
             std::thread::sleep(TICK);
         }
     }
 
-    /// Hands a new connection to a thread of its own, or answers 503 when there are too many.
+    /// Admits a new connection as pending (closing the oldest pending one if their quota is
+    /// full) and hands it to a thread of its own.
     fn serve(&self, stream: TcpStream) {
         let _ = stream.set_nonblocking(false);
         let _ = stream.set_nodelay(true);
-        if self.active.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
-            self.refuse_busy(stream);
-            return;
-        }
-        self.active.fetch_add(1, Ordering::SeqCst);
-        let (app, active, stop) = (self.app.clone(), self.active.clone(), self.stop.clone());
+        let id = self.shared.pending.admit(&stream);
+        let shared = self.shared.clone();
         let spawned = std::thread::Builder::new()
             .name("filmsplat-view".into())
             .spawn(move || {
-                connection(&stream, &app, &stop);
-                active.fetch_sub(1, Ordering::SeqCst);
+                connection(&stream, &shared, id);
+                shared.pending.leave(id);
             });
         if spawned.is_err() {
-            self.active.fetch_sub(1, Ordering::SeqCst);
+            self.shared.pending.leave(id);
         }
     }
 }
 
-impl Server {
-    /// Answers 503 on a thread of its own (at most [`MAX_CONNECTIONS`] such; beyond, the
-    /// connection is dropped): reads what the client sent first, so closing does not reset
-    /// the connection before the client reads the answer.
-    fn refuse_busy(&self, stream: TcpStream) {
-        if self.refusing.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
-            self.refusing.fetch_sub(1, Ordering::SeqCst);
-            return;
-        }
-        let refusing = self.refusing.clone();
-        let spawned = std::thread::Builder::new()
-            .name("filmsplat-view-busy".into())
-            .spawn(move || {
-                let busy = Response::error(
-                    503,
-                    &format!("too many connections (at most {MAX_CONNECTIONS}); try again"),
-                );
-                let _ = stream.set_read_timeout(Some(Duration::from_millis(500)));
-                let _ = stream.set_write_timeout(Some(Duration::from_secs(1)));
-                let mut reader = BufReader::new(&stream);
-                let _ = read_request(&mut reader);
-                let _ = write_response(&mut &stream, &busy, false, false);
-                let _ = stream.shutdown(std::net::Shutdown::Write);
-                refusing.fetch_sub(1, Ordering::SeqCst);
-            });
-        if spawned.is_err() {
-            self.refusing.fetch_sub(1, Ordering::SeqCst);
-        }
-    }
-}
-
-/// Waits until a request starts on `stream` (true) or the peer closes it, it idles for
-/// [`IDLE`] or the server stops (false).
-fn wait_for_request(stream: &TcpStream, reader: &BufReader<TcpStream>, stop: &AtomicBool) -> bool {
+/// Waits until a request starts on `stream` (true) or the peer closes it, `until` passes or
+/// the server stops (false).
+fn wait_for_request(
+    stream: &TcpStream,
+    reader: &BufReader<Deadlined>,
+    stop: &AtomicBool,
+    until: Instant,
+) -> bool {
     if !reader.buffer().is_empty() {
         return true;
     }
-    let deadline = Instant::now() + IDLE;
-    let _ = stream.set_read_timeout(Some(TICK * 10));
     let mut byte = [0u8; 1];
-    while !stop.load(Ordering::Relaxed) && Instant::now() < deadline {
+    while !stop.load(Ordering::Relaxed) {
+        let left = until.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return false;
+        }
+        let _ = stream.set_read_timeout(Some(left.min(TICK * 10)));
         match stream.peek(&mut byte) {
             Ok(0) => return false,
             Ok(_) => return true,
@@ -171,44 +188,67 @@ fn wait_for_request(stream: &TcpStream, reader: &BufReader<TcpStream>, stop: &At
     false
 }
 
-/// Serves the requests of one connection until it closes, breaks the protocol, idles out or
-/// the server stops.
-fn connection(stream: &TcpStream, app: &App, stop: &AtomicBool) {
+/// Serves the requests of one connection until it closes, breaks the protocol, misses its
+/// deadline, idles out or the server stops. Pending (`id`) until a request with the token
+/// takes a trusted slot; a pending connection is closed after its one answer.
+fn connection(stream: &TcpStream, shared: &Shared, id: u64) {
     let Ok(clone) = stream.try_clone() else {
         return;
     };
-    let mut reader = BufReader::new(clone);
+    let app = &shared.app;
+    let opened = Instant::now();
+    let mut reader = BufReader::new(Deadlined::new(clone, app.request_timeout));
     let _ = stream.set_write_timeout(Some(Duration::from_secs(60)));
+    let mut slot = None;
     loop {
-        if !wait_for_request(stream, &reader, stop) {
+        let pending_until = opened + app.request_deadline;
+        let idle_until = match slot {
+            None => pending_until,
+            Some(_) => Instant::now() + IDLE,
+        };
+        if !wait_for_request(stream, &reader, &shared.stop, idle_until) {
             return;
         }
-        let _ = stream.set_read_timeout(app.request_timeout);
+        reader.get_mut().until = match slot {
+            None => pending_until,
+            Some(_) => Instant::now() + app.request_deadline,
+        };
         let req = match read_request(&mut reader) {
             Ok(r) => r,
             Err(ReadError::Closed) => return,
             Err(ReadError::Bad(status, message)) => {
-                let resp = Response::error(status, &message);
-                let _ = write_response(&mut &*stream, &resp, false, false);
-                drain(stream, &mut reader);
-                return;
+                return refuse(stream, &mut reader, &Response::error(status, &message));
             }
         };
+        if slot.is_none() && app.authorized(&req) {
+            let Some(s) = shared.take_slot() else {
+                let busy = format!("too many connections (at most {MAX_CONNECTIONS}); try again");
+                return refuse(stream, &mut reader, &Response::error(503, &busy));
+            };
+            slot = Some(s);
+            shared.pending.leave(id);
+        }
         let resp = app.handle(&req, Some(stream));
-        let keep = req.keep_alive && !stop.load(Ordering::Relaxed);
+        let keep = req.keep_alive && slot.is_some() && !shared.stop.load(Ordering::Relaxed);
         if write_response(&mut &*stream, &resp, req.method == "HEAD", keep).is_err() || !keep {
             return;
         }
     }
 }
 
+/// Answers `resp` and closes, after draining what the client still sends.
+fn refuse(stream: &TcpStream, reader: &mut BufReader<Deadlined>, resp: &Response) {
+    let _ = write_response(&mut &*stream, resp, false, false);
+    drain(stream, reader);
+}
+
 /// Before closing after a refused request: stops writing and reads (briefly, at most 1 MiB) what
 /// the client still sends, so the close does not reset the connection before the client has
 /// read the answer.
-fn drain(stream: &TcpStream, reader: &mut BufReader<TcpStream>) {
+fn drain(stream: &TcpStream, reader: &mut BufReader<Deadlined>) {
     use std::io::Read;
     let _ = stream.shutdown(std::net::Shutdown::Write);
-    let _ = stream.set_read_timeout(Some(Duration::from_millis(200)));
+    reader.get_mut().until = Instant::now() + Duration::from_millis(200);
     let mut buf = [0u8; 8192];
     let mut total = 0;
     while total < 1 << 20 {

@@ -62,7 +62,18 @@ pub fn frames(toml: &'static str, n: usize) -> Frames {
 
 /// Starts a server for `frames`, keeping `budget` bytes of prepared variants.
 pub fn start_frames(frames: Frames, budget: u64) -> Running {
-    let app = App::new(frames, Token::fixed(TOKEN), budget).unwrap();
+    serve(App::new(frames, Token::fixed(TOKEN), budget).unwrap())
+}
+
+/// Starts a server for one frame of `toml`, giving each request `deadline` to arrive whole.
+pub fn start_with_deadline(toml: &'static str, deadline: std::time::Duration) -> Running {
+    let mut app = App::new(frames(toml, 1), Token::fixed(TOKEN), u64::MAX).unwrap();
+    app.request_deadline = deadline;
+    serve(app)
+}
+
+/// Serves `app` on a free port of 127.0.0.1.
+pub fn serve(app: App) -> Running {
     let stop = Arc::new(AtomicBool::new(false));
     let server = Arc::new(Server::bind("127.0.0.1:0".parse().unwrap(), app, stop.clone()).unwrap());
     let addr = server.local_addr();
