@@ -52,11 +52,24 @@ impl FrontLayer {
 /// assert_eq!(f.interior, 18 * 18); // every pixel with a hit 1..=3 px away on all four sides
 /// ```
 pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontLayer {
+    missing_front_layer_besides(depth, width, height, &[])
+}
+
+/// [`missing_front_layer`] of the film alone, where the pixels flagged in `other` (e.g. those
+/// covered by droplets; empty = none) hold something else in front: they count as covered for
+/// the interior, and are neither counted nor used as neighbours.
+pub fn missing_front_layer_besides(
+    depth: &[f32],
+    width: usize,
+    height: usize,
+    other: &[bool],
+) -> FrontLayer {
     let mut out = FrontLayer::default();
-    if depth.len() != width * height {
+    if depth.len() != width * height || !(other.is_empty() || other.len() == depth.len()) {
         return out;
     }
-    let hit = |x: usize, y: usize| depth[y * width + x] > 0.0;
+    let skip = |k: usize| other.get(k).copied().unwrap_or(false);
+    let hit = |x: usize, y: usize| depth[y * width + x] > 0.0 || skip(y * width + x);
     let mut near = Vec::with_capacity(25);
     for y in 0..height {
         for x in 0..width {
@@ -70,7 +83,8 @@ pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontL
                         && hit(xx as usize, yy as usize)
                 })
             };
-            if !(found(1, 0) && found(-1, 0) && found(0, 1) && found(0, -1)) {
+            if skip(y * width + x) || !(found(1, 0) && found(-1, 0) && found(0, 1) && found(0, -1))
+            {
                 continue;
             }
             out.interior += 1;
@@ -83,7 +97,7 @@ pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontL
             for yy in y.saturating_sub(2)..(y + 3).min(height) {
                 for xx in x.saturating_sub(2)..(x + 3).min(width) {
                     let v = depth[yy * width + xx];
-                    if v > 0.0 {
+                    if v > 0.0 && !skip(yy * width + xx) {
                         near.push(v);
                     }
                 }
