@@ -128,12 +128,11 @@ fn constant_label(v: f32) -> String {
     } else if (1e-3..1e6).contains(&a) {
         let decimals = (5.0 - a.log10().floor()).clamp(0.0, 8.0) as usize;
         let t = format!("{v:.*}", decimals);
-        let t = if t.contains('.') {
+        if t.contains('.') {
             t.trim_end_matches('0').trim_end_matches('.').to_string()
         } else {
             t
-        };
-        t
+        }
     } else {
         format!("{v:.3e}")
     }
