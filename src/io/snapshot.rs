@@ -88,7 +88,7 @@ fn check_masses(path: &Path, cloud: &PointCloud) -> Result<()> {
             FORMAT,
             format!(
                 "{bad} of {} droplet masses are not finite and positive (first: droplet {i}, \
-                 {} kg); a droplet is a sphere of its mass over 1000 kg/m³",
+                 {:e} kg); a droplet is a sphere of its mass over 1000 kg/m³",
                 m.len(),
                 m[i]
             ),
