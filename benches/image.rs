@@ -71,6 +71,7 @@ fn exr(c: &mut Criterion) {
         normal: Some(vec![[0.0, 0.0, 1.0]; n]),
         thickness: Some((0..n).map(|i| (i % 700) as f32).collect()),
         hit_count: Some(vec![2.0; n]),
+        droplets: Some(vec![0.0; n]),
     };
     let path = std::env::temp_dir().join(format!("filmsplat-bench-{}.exr", std::process::id()));
     c.bench_function("write_exr_256x256_all_layers", |b| {

@@ -45,7 +45,10 @@ fn sphere_radius(volume: f64) -> f64 {
 #[test]
 fn a_bursting_bubble_frame_is_its_film_and_its_droplets() {
     let dir = data("thin-film-sph/bursting_bubble/100");
+    // The reader gives the droplets as stored; the pipeline sizes them.
     let parts = read_parts(&dir, &ReadOptions::default()).unwrap();
+    assert!(parts[1].cloud.radius.is_none());
+    let parts = filmsplat::pipeline::read_input_parts(&dir, &ReadOptions::default()).unwrap();
     assert_eq!(parts.len(), 2);
     let (film, drops) = (&parts[0], &parts[1]);
     assert_eq!(

@@ -99,9 +99,10 @@ impl Image {
         }
     }
 
-    /// The first film crossing's buffers (means over the samples that hit, 0 elsewhere):
-    /// `depth` (scene units along the ray), `normal` (H, W, 3), `thickness` (nm) and `hits`
-    /// (splats blended into the crossing), float32; empty for views and the chart.
+    /// The first crossing's buffers (means over the samples that hit, 0 elsewhere):
+    /// `depth` (scene units along the ray, film or droplet), `normal` (H, W, 3), `thickness`
+    /// (nm) and `hits` (splats blended into the film crossing), and `droplets` (share of the
+    /// pixel covered by droplets, 0..1), float32; empty for views and the chart.
     #[getter]
     fn layers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
@@ -111,6 +112,7 @@ impl Image {
             d.set_item("normal", vec3s_to_numpy(py, &out.normal, &[h, w])?)?;
             d.set_item("thickness", to_numpy(py, out.thickness.clone(), &[h, w])?)?;
             d.set_item("hits", to_numpy(py, out.hits.clone(), &[h, w])?)?;
+            d.set_item("droplets", to_numpy(py, out.droplets.clone(), &[h, w])?)?;
         }
         Ok(d)
     }

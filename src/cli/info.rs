@@ -1,8 +1,9 @@
 //! `filmsplat info`: what a particle file holds and what the renderer would make of it.
 
 use crate::Result;
-use crate::io::{AttributeRole, CloudPart, PartKind, StoredAttribute, peek_count, read_parts};
+use crate::io::{AttributeRole, CloudPart, PartKind, StoredAttribute, peek_count};
 use crate::pipeline::memory::{MemoryEstimate, human_bytes};
+use crate::pipeline::read_input_parts;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::estimate::estimate_radii;
 use crate::pointcloud::{EstimateOptions, compute_stats};
@@ -28,7 +29,7 @@ pub struct InfoArgs {
 pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     let opts = a.attributes.read_options()?;
     let hint = peek_count(&a.input)?;
-    let parts = read_parts(&a.input, &opts)?;
+    let parts = read_input_parts(&a.input, &opts)?;
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));
     writeln!(out, "{}", a.input.display()).map_err(io)?;
     let many = parts.len() > 1;

@@ -145,7 +145,13 @@ pub(super) fn render_one(
     }
     if !a.quiet {
         let s = &prepared.settings;
-        let front = crate::image::pinholes::missing_front_layer(&result.depth, s.width, s.height);
+        let droplets: Vec<bool> = result.droplets.iter().map(|c| *c > 0.0).collect();
+        let front = crate::image::pinholes::missing_front_layer_besides(
+            &result.depth,
+            s.width,
+            s.height,
+            &droplets,
+        );
         let _ = writeln!(
             out,
             "{} particles ({}){}: load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",

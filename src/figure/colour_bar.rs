@@ -16,7 +16,10 @@ pub fn colour_bar_width(width: usize, height: usize) -> usize {
 /// Returns `img` widened on the right by a `panel` pixels wide panel (see
 /// [`colour_bar_width`]) holding a vertical colour bar from `min` (bottom) to `max` (top),
 /// coloured by `ramp(t)` for t in [0, 1] (linear RGB), with tick labels and the `title`
-/// written along it. Text and bar scale with the panel.
+/// written along it. Text and bar scale with the panel. The labels say what is there: six
+/// ticks for a range; one tick `all V` when every value is V (a range narrower than a
+/// millionth of its values); no ramp and one label `no film` when the range is empty or not
+/// finite (nothing of the film in view).
 pub fn add_colour_bar(
     img: &RgbImage,
     panel: usize,
@@ -39,7 +42,13 @@ pub fn add_colour_bar(
     let ink = [0.85; 3];
     let (x0, x1) = (img.width as f32 + 24.0 * s, img.width as f32 + 48.0 * s);
     let (y0, y1) = (0.1 * h as f32, 0.9 * h as f32);
-    let rows = (y1 - y0).ceil() as usize;
+    let labels = BarLabels::of(min, max);
+    // Nothing to show: no ramp, only the label saying so.
+    let rows = if labels == BarLabels::Nothing {
+        0
+    } else {
+        (y1 - y0).ceil() as usize
+    };
     for r in 0..rows {
         let t = 1.0 - (r as f32 + 0.5) / rows as f32;
         fill_rect(
@@ -52,29 +61,24 @@ pub fn add_colour_bar(
         );
     }
     let size = 15.0 * s;
-    let ticks = 5;
-    // Enough decimals to tell neighbouring ticks apart, no more.
-    let step = ((max - min) / ticks as f32).abs();
-    let decimals = if step > 0.0 {
-        (1.0 - step.log10().floor()).clamp(0.0, 6.0) as usize
-    } else {
-        0
+    let label_at = |out: &mut RgbImage, y: f32, label: &str| {
+        draw_line(out, x1, y, x1 + 6.0 * s, y, 1.0, ink);
+        draw_text(out, x1 + 9.0 * s, y, label, size, ink, Anchor::MIDDLE_LEFT);
     };
-    for i in 0..=ticks {
-        let t = i as f32 / ticks as f32;
-        let y = y1 - t * (y1 - y0);
-        let v = min + t * (max - min);
-        draw_line(&mut out, x1, y, x1 + 6.0 * s, y, 1.0, ink);
-        let label = format!("{v:.*}", decimals);
-        draw_text(
+    match labels {
+        BarLabels::Nothing => label_at(&mut out, 0.5 * (y0 + y1), "no film"),
+        BarLabels::Constant(v) => label_at(
             &mut out,
-            x1 + 9.0 * s,
-            y,
-            &label,
-            size,
-            ink,
-            Anchor::MIDDLE_LEFT,
-        );
+            0.5 * (y0 + y1),
+            &format!("all {}", constant_label(v)),
+        ),
+        BarLabels::Ticks { ticks, decimals } => {
+            for i in 0..=ticks {
+                let t = i as f32 / ticks as f32;
+                let v = min + t * (max - min);
+                label_at(&mut out, y1 - t * (y1 - y0), &format!("{v:.*}", decimals));
+            }
+        }
     }
     draw_text_vertical(
         &mut out,
@@ -86,6 +90,52 @@ pub fn add_colour_bar(
         Anchor::CENTRE,
     );
     out
+}
+
+/// What the bar's labels say about the range `min..max`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum BarLabels {
+    /// No value at all (an empty or non-finite range: nothing of the film is in view).
+    Nothing,
+    /// One value (the range is empty, or narrower than a millionth of its values).
+    Constant(f32),
+    /// `ticks + 1` evenly spaced labels with `decimals` decimals: enough to tell neighbouring
+    /// ticks apart, no more.
+    Ticks { ticks: usize, decimals: usize },
+}
+
+impl BarLabels {
+    fn of(min: f32, max: f32) -> Self {
+        if !(min.is_finite() && max.is_finite()) || min > max {
+            return BarLabels::Nothing;
+        }
+        let scale = min.abs().max(max.abs());
+        if max - min <= 1e-6 * scale || max == min {
+            return BarLabels::Constant(0.5 * (min + max));
+        }
+        let ticks = 5;
+        let step = (max - min) / ticks as f32;
+        let decimals = (1.0 - step.log10().floor()).clamp(0.0, 6.0) as usize;
+        BarLabels::Ticks { ticks, decimals }
+    }
+}
+
+/// A single value, with its significant digits (up to 6): `0.002`, `0`, `1.500e-9`.
+fn constant_label(v: f32) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-3..1e6).contains(&a) {
+        let decimals = (5.0 - a.log10().floor()).clamp(0.0, 8.0) as usize;
+        let t = format!("{v:.*}", decimals);
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        }
+    } else {
+        format!("{v:.3e}")
+    }
 }
 
 #[cfg(test)]
@@ -108,6 +158,36 @@ mod tests {
         let top = out.get(x, 25)[0];
         let bottom = out.get(x, 175)[0];
         assert!(top > 0.8 && bottom < 0.2, "{top} {bottom}");
+    }
+
+    #[test]
+    fn labels_say_what_is_there() {
+        assert_eq!(
+            BarLabels::of(f32::INFINITY, f32::NEG_INFINITY),
+            BarLabels::Nothing
+        );
+        assert_eq!(BarLabels::of(f32::NAN, 1.0), BarLabels::Nothing);
+        assert_eq!(BarLabels::of(0.0, 0.0), BarLabels::Constant(0.0));
+        assert_eq!(BarLabels::of(0.002, 0.002), BarLabels::Constant(0.002));
+        assert_eq!(
+            BarLabels::of(100.0, 500.0),
+            BarLabels::Ticks {
+                ticks: 5,
+                decimals: 0
+            }
+        );
+        assert_eq!(constant_label(0.0), "0");
+        assert_eq!(constant_label(0.002), "0.002");
+        assert_eq!(constant_label(13836.0), "13836");
+        assert_eq!(constant_label(1.5e-9), "1.500e-9");
+        // A bar of nothing and a bar of one value differ from a bar of a range; each draws.
+        let img = RgbImage::filled(100, 200, [0.5; 3]);
+        let ramp = |t: f32| [t; 3];
+        let none = add_colour_bar(&img, 60, "t", f32::INFINITY, f32::NEG_INFINITY, &ramp);
+        let one = add_colour_bar(&img, 60, "t", 0.002, 0.002, &ramp);
+        let range = add_colour_bar(&img, 60, "t", 0.0, 1.0, &ramp);
+        assert_ne!(none.data, one.data);
+        assert_ne!(one.data, range.data);
     }
 
     #[test]

@@ -18,6 +18,9 @@ pub struct Droplets {
     spheres: Option<SphereGeometry>,
     centres: Vec<Vec3>,
     radii: Vec<f32>,
+    /// The spheres grown to the camera's pixel footprint, and their radii (see
+    /// [`Droplets::set_footprints`]); `None` until set.
+    grown: Option<(SphereGeometry, Vec<f32>)>,
     /// Index of refraction inside the spheres (default [`WATER_IOR`]).
     pub ior: f32,
 }
@@ -28,9 +31,22 @@ impl Default for Droplets {
             spheres: None,
             centres: Vec::new(),
             radii: Vec::new(),
+            grown: None,
             ior: WATER_IOR,
         }
     }
+}
+
+/// Where a camera ray meets a droplet grown to the pixel footprint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GrownHit {
+    /// The hit on the grown sphere.
+    pub hit: DropletHit,
+    /// Share of the grown sphere's cross-section the droplet covers, (r / g)² ∈ (0, 1]: 1 for
+    /// a droplet at least as large as the footprint.
+    pub coverage: f32,
+    /// Distance along the ray where it leaves the grown sphere.
+    pub t_exit: f32,
 }
 
 /// Where a ray meets a droplet from outside.
@@ -60,7 +76,64 @@ impl Droplets {
             spheres: Some(spheres),
             centres: centres.to_vec(),
             radii: radii.to_vec(),
+            grown: None,
             ior: WATER_IOR,
+        })
+    }
+
+    /// Grows each droplet seen by camera rays to at least `footprint(centre)` (scene units;
+    /// the radius of a disk covering one pixel at the droplet's distance), so a droplet smaller
+    /// than a pixel is still found by the pixel's samples and counts with its share of the
+    /// pixel ([`Droplets::intersect_grown`]). Cost: one more sphere tree, O(n log n).
+    ///
+    /// # Errors
+    /// As [`SphereGeometry::build`].
+    pub fn set_footprints(&mut self, footprint: impl Fn(Vec3) -> f32) -> Result<()> {
+        if self.is_empty() {
+            return Ok(());
+        }
+        let g: Vec<f32> = self
+            .centres
+            .iter()
+            .zip(&self.radii)
+            .map(|(c, r)| {
+                let f = footprint(*c);
+                if f.is_finite() && f > *r { f } else { *r }
+            })
+            .collect();
+        let zeros = vec![0.0; g.len()];
+        self.grown = Some((SphereGeometry::build(&self.centres, &[], &g, &zeros)?, g));
+        Ok(())
+    }
+
+    /// The nearest grown droplet (see [`Droplets::set_footprints`]) a camera ray enters with
+    /// `t_min < t < t_max`; without footprints, the droplets themselves at coverage 1. The
+    /// expected coverage over a pixel's samples is the droplet's own cross-section over the
+    /// pixel's: P(hit grown) · (r/g)² = π g² / A · r² / g² = π r² / A.
+    pub fn intersect_grown(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<GrownHit> {
+        let Some((spheres, g)) = &self.grown else {
+            let hit = self.intersect(ray, t_min, t_max)?;
+            let t_exit = hit.t + self.exit_distance(hit.index, ray.at(hit.t), ray.dir);
+            return Some(GrownHit {
+                hit,
+                coverage: 1.0,
+                t_exit,
+            });
+        };
+        let h = spheres.intersect(ray, t_min, t_max)?;
+        let i = h.particle as usize;
+        let (r, g) = (self.radii[i], g[i]);
+        let oc = ray.at(h.t) - self.centres[i];
+        let b = oc.dot(ray.dir);
+        let t_exit = h.t + (-b + (b * b - (oc.length_squared() - g * g)).max(0.0).sqrt()).max(0.0);
+        Some(GrownHit {
+            hit: DropletHit {
+                t: h.t,
+                normal: h.normal,
+                index: h.particle,
+            },
+            coverage: ((r / g) * (r / g)).min(1.0),
+            t_exit,
         })
     }
 
@@ -86,6 +159,10 @@ impl Droplets {
         self.spheres
             .as_ref()
             .map_or(0, SphereGeometry::memory_bytes)
+            + self
+                .grown
+                .as_ref()
+                .map_or(0, |(s, g)| s.memory_bytes() + g.len() * 4)
             + self.centres.len() * 16
     }
 
@@ -141,5 +218,25 @@ mod tests {
                 .intersect(&ray, 0.0, 1e9)
                 .is_none()
         );
+    }
+
+    #[test]
+    fn grown_droplets_cover_their_share() {
+        // A droplet of radius 0.1 grown to 0.4: any ray through the grown sphere counts with
+        // (0.1/0.4)² = 1/16; one larger than its footprint keeps coverage 1.
+        let mut d = Droplets::build(&[Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0)], &[0.1, 1.0]).unwrap();
+        d.set_footprints(|_| 0.4).unwrap();
+        let ray = |x: f32| Ray {
+            origin: Vec3::new(x, 0.3, -10.0),
+            dir: Vec3::Z,
+        };
+        let h = d.intersect_grown(&ray(0.0), 0.0, f32::INFINITY).unwrap();
+        assert_eq!(h.hit.index, 0);
+        assert!((h.coverage - 1.0 / 16.0).abs() < 1e-6, "{}", h.coverage);
+        let chord = 2.0 * (0.4f32 * 0.4 - 0.3 * 0.3).sqrt();
+        assert!((h.t_exit - h.hit.t - chord).abs() < 1e-4);
+        assert!(d.intersect(&ray(0.0), 0.0, f32::INFINITY).is_none());
+        let big = d.intersect_grown(&ray(5.0), 0.0, f32::INFINITY).unwrap();
+        assert_eq!((big.hit.index, big.coverage), (1, 1.0));
     }
 }

@@ -48,7 +48,7 @@ pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{BvhNode, BvhParams};
 pub use disks::DiskGeometry;
-pub use droplets::{DropletHit, Droplets, WATER_IOR};
+pub use droplets::{DropletHit, Droplets, GrownHit, WATER_IOR};
 pub use film::FilmGeometry;
 pub use hit::SurfaceHit;
 pub use mesh::{MeshGeometry, MeshSides};

@@ -11,6 +11,7 @@
 //! | `normal.X`, `normal.Y`, `normal.Z` | surface normal per pixel |
 //! | `thickness.Y` | film thickness per pixel, nanometres |
 //! | `hits.Y` | number of film crossings per pixel |
+//! | `droplets.Y` | share of the pixel covered by droplets (0..1; also counted in `A`) |
 
 use std::fs::File;
 use std::io::BufReader;
@@ -30,6 +31,8 @@ pub const NORMAL_CHANNELS: [&str; 3] = ["normal.X", "normal.Y", "normal.Z"];
 pub const THICKNESS_CHANNEL: &str = "thickness.Y";
 /// Channel name of the hit-count layer.
 pub const HITS_CHANNEL: &str = "hits.Y";
+/// Channel name of the droplet-coverage layer.
+pub const DROPLETS_CHANNEL: &str = "droplets.Y";
 
 /// The layers of one EXR file. Every present buffer has `width * height` entries, row-major,
 /// top row first.
@@ -49,6 +52,8 @@ pub struct ExrLayers {
     pub thickness: Option<Vec<f32>>,
     /// Hit count (channel `hits.Y`).
     pub hit_count: Option<Vec<f32>>,
+    /// Droplet coverage, 0..1 (channel `droplets.Y`).
+    pub droplets: Option<Vec<f32>>,
 }
 
 impl ExrLayers {
@@ -79,6 +84,7 @@ impl ExrLayers {
             ("normal", self.normal.as_ref().map(Vec::len)),
             ("thickness", self.thickness.as_ref().map(Vec::len)),
             ("hit_count", self.hit_count.as_ref().map(Vec::len)),
+            ("droplets", self.droplets.as_ref().map(Vec::len)),
         ];
         for (name, len) in lens {
             if let Some(len) = len.filter(|&l| l != n) {
@@ -130,6 +136,9 @@ pub fn write_exr(path: &Path, layers: &ExrLayers) -> Result<()> {
     }
     if let Some(h) = &layers.hit_count {
         list.push(chan(HITS_CHANNEL, h.clone()));
+    }
+    if let Some(d) = &layers.droplets {
+        list.push(chan(DROPLETS_CHANNEL, d.clone()));
     }
     let layer = x::Layer::new(
         (layers.width, layers.height),
@@ -314,6 +323,7 @@ pub fn read_exr(path: &Path) -> Result<ExrLayers> {
         normal,
         thickness: ch.get(THICKNESS_CHANNEL).map(<[f32]>::to_vec),
         hit_count: ch.get(HITS_CHANNEL).map(<[f32]>::to_vec),
+        droplets: ch.get(DROPLETS_CHANNEL).map(<[f32]>::to_vec),
     })
 }
 
@@ -352,6 +362,7 @@ mod tests {
             normal: Some((0..n).map(|i| [f(i, 3.0), f(i, 4.0), -1.0]).collect()),
             thickness: Some((0..n).map(|i| 200.0 + i as f32).collect()),
             hit_count: Some((0..n).map(|i| (i % 5) as f32).collect()),
+            droplets: Some((0..n).map(|i| (i % 4) as f32 * 0.25).collect()),
         }
     }
 

@@ -52,11 +52,24 @@ impl FrontLayer {
 /// assert_eq!(f.interior, 18 * 18); // every pixel with a hit 1..=3 px away on all four sides
 /// ```
 pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontLayer {
+    missing_front_layer_besides(depth, width, height, &[])
+}
+
+/// [`missing_front_layer`] of the film alone, where the pixels flagged in `other` (e.g. those
+/// covered by droplets; empty = none) hold something else in front: they are neither film
+/// hits nor counted, and their depths are not used as neighbours'.
+pub fn missing_front_layer_besides(
+    depth: &[f32],
+    width: usize,
+    height: usize,
+    other: &[bool],
+) -> FrontLayer {
     let mut out = FrontLayer::default();
-    if depth.len() != width * height {
+    if depth.len() != width * height || !(other.is_empty() || other.len() == depth.len()) {
         return out;
     }
-    let hit = |x: usize, y: usize| depth[y * width + x] > 0.0;
+    let skip = |k: usize| other.get(k).copied().unwrap_or(false);
+    let hit = |x: usize, y: usize| depth[y * width + x] > 0.0 && !skip(y * width + x);
     let mut near = Vec::with_capacity(25);
     for y in 0..height {
         for x in 0..width {
@@ -70,7 +83,8 @@ pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontL
                         && hit(xx as usize, yy as usize)
                 })
             };
-            if !(found(1, 0) && found(-1, 0) && found(0, 1) && found(0, -1)) {
+            if skip(y * width + x) || !(found(1, 0) && found(-1, 0) && found(0, 1) && found(0, -1))
+            {
                 continue;
             }
             out.interior += 1;
@@ -83,7 +97,7 @@ pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontL
             for yy in y.saturating_sub(2)..(y + 3).min(height) {
                 for xx in x.saturating_sub(2)..(x + 3).min(width) {
                     let v = depth[yy * width + xx];
-                    if v > 0.0 {
+                    if v > 0.0 && !skip(yy * width + xx) {
                         near.push(v);
                     }
                 }
@@ -98,4 +112,43 @@ pub fn missing_front_layer(depth: &[f32], width: usize, height: usize) -> FrontL
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pixels_of_something_else_are_neither_film_nor_holes() {
+        // A film at depth 1 with a 3×3 droplet in front (depth 0.3): no hole; scattered
+        // droplets over no film: no interior at all.
+        let (w, h) = (20, 20);
+        let mut depth = vec![1.0f32; w * h];
+        let mut other = vec![false; w * h];
+        for y in 8..11 {
+            for x in 8..11 {
+                depth[y * w + x] = 0.3;
+                other[y * w + x] = true;
+            }
+        }
+        let all = missing_front_layer(&depth, w, h);
+        let film = missing_front_layer_besides(&depth, w, h, &other);
+        assert_eq!(film.missing, 0);
+        // Not interior: the droplet's 9 pixels, and the 3 beside each of its sides, which see
+        // no film within REACH = 3 px across it.
+        assert_eq!(film.interior, all.interior - 9 - 4 * 3);
+        assert!(all.missing == 0, "the near droplet is not behind");
+        let mut drops = vec![0.0f32; w * h];
+        let mut flag = vec![false; w * h];
+        for k in (0..w * h).step_by(3) {
+            drops[k] = 0.5;
+            flag[k] = true;
+        }
+        assert!(
+            missing_front_layer(&drops, w, h).missing > 0,
+            "as film: holes"
+        );
+        let none = missing_front_layer_besides(&drops, w, h, &flag);
+        assert_eq!((none.interior, none.missing), (0, 0));
+    }
 }

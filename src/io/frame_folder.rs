@@ -11,7 +11,7 @@
 //! | `rh_bin` | u32 n, n f64 | film thickness for rendering, m (`RH`) | thickness |
 //! | `h_bin` | u32 n, n f64 | height of the particle's film cylinder, m (`H`) | extra (thickness if no `rh_bin`) |
 //! | `kh_bin` | u32 n, n f64 | Laplacian of H (`KH`) | extra |
-//! | `sa_bin` | u32 n, n f64 | surface area a particle, m² (`SA`) | extra (droplet volume `SA·H`; the splat radius comes from the spacing, since disks of the particles' own area, √(SA/π), do not overlap enough to blend) |
+//! | `sa_bin` | u32 n, n f64 | surface area a particle, m² (`SA`) | extra (the droplets' volume `SA·H`; the splat radius comes from the spacing, since disks of the particles' own area, √(SA/π), do not overlap enough to blend) |
 //! | `tracker_points` | i32 4n, 4n f32 | x as float32 for the viewer | skipped (positions if no `x_bin`) |
 //! | `tracker_circles`, `point_velocity`, `point_height`, `point_gamma`, `point_force`, `point_sa`, `segment_mesh` | i32 8n, 8n f32 | viewer segments | skipped (`tracker_circles`: normals if no `norm_bin`) |
 //! | `tracker_points_3d` | i32 4m, 4m f32 | droplet positions (3D fluid particles) | droplets part |
@@ -25,10 +25,10 @@
 //! unless [`ReadOptions::thickness_unit_explicit`] says otherwise. All counts must agree. Other
 //! files are listed as skipped; subdirectories are ignored.
 //!
-//! Droplets are water spheres of the volume the simulator gives them: a film particle turns
-//! into a 3D particle of the same mass (`FluidSPHBubble::Transform_3D_Particles`), so the
-//! volume is the film particle's `SA·H` (its mass over ρ = 1000 kg/m³), from this frame's film,
-//! else the run's frame `0`; see [`droplet_radius`].
+//! The droplets are read as stored (positions, `rh`, `sn`); the folder stores no droplet
+//! mass, so their size comes from the run's film particles (`SA·H`: a film particle turns into
+//! a droplet of the same mass), decided by [`crate::pipeline`] with
+//! [`crate::pointcloud::droplet_size`].
 
 use std::path::{Path, PathBuf};
 
@@ -68,9 +68,6 @@ const VIEWER_FILES: &[(&str, usize, &str)] = &[
     ("point_sa", 8, "viewer segments of SA"),
     ("segment_mesh", 8, "viewer local frames"),
 ];
-
-/// Density of water in kg/m³: the simulator's `rho` for films and droplets.
-pub const WATER_DENSITY: f64 = 1000.0;
 
 /// Reads the frame folder `dir`'s film into a [`PointCloud`] (see the module docs).
 ///
@@ -225,14 +222,15 @@ fn positions_from_viewer(dir: &Path) -> Result<Columns> {
 }
 
 /// Reads the frame folder's particle sets: the film, and (once the film has ruptured) the
-/// droplets of `tracker_points_3d` with their radius (see [`droplet_radius`]).
+/// droplets of `tracker_points_3d`. The droplets come as stored, without a radius: their size
+/// is decided from the run's stored masses and volumes by [`crate::pipeline`].
 ///
 /// # Errors
 /// As [`read`]; for the droplet files, errors naming the file as well.
 pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     let (film, stored) = read_described(dir, opts)?;
     let mut parts = Vec::new();
-    let droplets = read_droplets(dir, &film)?;
+    let droplets = read_droplets(dir)?;
     parts.push(CloudPart::film(
         format!("{} (film)", dir.display()),
         film,
@@ -242,8 +240,9 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     Ok(parts)
 }
 
-/// The droplets of `tracker_points_3d`, `rh_bin_3d` and `norm_bin_3d`, if any.
-fn read_droplets(dir: &Path, film: &PointCloud) -> Result<Option<CloudPart>> {
+/// The droplets of `tracker_points_3d`, `rh_bin_3d` and `norm_bin_3d`, if any. Labelled by
+/// their positions file, so every message about one droplet names it.
+fn read_droplets(dir: &Path) -> Result<Option<CloudPart>> {
     let tp = dir.join("tracker_points_3d");
     if !tp.is_file() {
         return Ok(None);
@@ -276,25 +275,16 @@ fn read_droplets(dir: &Path, film: &PointCloud) -> Result<Option<CloudPart>> {
         }
         cols.push(name, k, "float64", v);
     }
-    let (mut cloud, stored) = cols
+    let (cloud, stored) = cols
         .into_cloud(&ReadOptions::default(), &NO_ROLES)
         .map_err(|m| format_error(dir, FORMAT, m))?;
-    let (r, note) = droplet_radius(dir, film, &cloud.positions);
-    cloud.radius = Some(vec![r; cloud.len()]);
     Ok(Some(CloudPart {
-        label: format!("{} (droplets)", dir.display()),
+        label: format!("{} (droplets)", tp.display()),
         kind: PartKind::Droplets,
         cloud,
         stored,
-        notes: vec![note],
+        notes: Vec::new(),
     }))
-}
-
-/// The droplet radius when the files give no volume: half the droplets' median spacing
-/// (1e-4 scene units if they have none).
-pub(crate) fn spacing_radius(droplets: &[Vec3]) -> f32 {
-    let r = 0.5 * crate::pointcloud::estimate::median_spacing(droplets);
-    if r > 0.0 { r } else { 1e-4 }
 }
 
 /// Aliases that map nothing: every attribute of a droplet set is an extra (its radius is
@@ -305,64 +295,6 @@ pub(crate) const NO_ROLES: Aliases = Aliases {
     radius: &[],
     default_scale_to_nm: 1e9,
 };
-
-/// Radius of a sphere of volume `v`.
-pub fn volume_radius(v: f64) -> f64 {
-    (3.0 * v / (4.0 * std::f64::consts::PI)).cbrt()
-}
-
-/// Median film-particle volume `SA·H` (m³) over the particles with both positive, if any.
-fn film_particle_volume(cloud: &PointCloud) -> Option<f64> {
-    let (sa, h) = (cloud.extra("sa")?, cloud.extra("h")?);
-    let mut v: Vec<f64> = sa
-        .iter()
-        .zip(h)
-        .map(|(a, h)| f64::from(*a) * f64::from(*h))
-        .filter(|v| v.is_finite() && *v > 0.0)
-        .collect();
-    if v.is_empty() {
-        return None;
-    }
-    let mid = v.len() / 2;
-    Some(*v.select_nth_unstable_by(mid, f64::total_cmp).1)
-}
-
-/// The droplets' radius (scene units, metres) and how it was found: the sphere of a film
-/// particle's volume `SA·H` (the simulator turns a film particle into a droplet of the same
-/// mass) in this frame's film, else in the run's first frame (`../0`); else half the
-/// droplets' median spacing.
-pub fn droplet_radius(dir: &Path, film: &PointCloud, droplets: &[Vec3]) -> (f32, String) {
-    if let Some(v) = film_particle_volume(film) {
-        let r = volume_radius(v) as f32;
-        return (
-            r,
-            format!(
-                "droplets: water spheres of radius {r:.3e} m (the volume SA·H of this frame's film particles)"
-            ),
-        );
-    }
-    let first = dir.parent().map(|p| p.join("0"));
-    if let Some(first) = first.filter(|f| f.join("x_bin").is_file() && f != dir)
-        && let Ok(c) = read(&first, &ReadOptions::default())
-        && let Some(v) = film_particle_volume(&c)
-    {
-        let r = volume_radius(v) as f32;
-        return (
-            r,
-            format!(
-                "droplets: water spheres of radius {r:.3e} m (the volume SA·H of the film particles of {})",
-                first.display()
-            ),
-        );
-    }
-    let r = spacing_radius(droplets);
-    (
-        r,
-        format!(
-            "droplets: no film volume found (SA·H); spheres of half the median droplet spacing, radius {r:.3e}"
-        ),
-    )
-}
 
 /// Decodes one `*_bin` file's content already in memory: returns (components per particle,
 /// 1 or 3; the values as f32). `path` only names the file in errors. Never panics.

@@ -89,9 +89,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
         let v = decode_floats(&read_file(&vp)?, 4).map_err(|m| format_error(&vp, FORMAT, m))?;
         if v.len > 0 {
             let positions: Vec<Vec3> = v.vec3s(0);
-            let r = super::frame_folder::spacing_radius(&positions);
             let cloud = crate::pointcloud::PointCloud {
-                radius: Some(vec![r; positions.len()]),
                 positions,
                 ..Default::default()
             };
@@ -105,9 +103,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
                     3,
                     AttributeRole::Position,
                 )],
-                notes: vec![format!(
-                    "droplets: MELP writes no droplet volume; spheres of half the median droplet spacing, radius {r:.3e}"
-                )],
+                notes: Vec::new(),
             });
         }
     }

@@ -12,7 +12,9 @@ pub enum PartKind {
     /// A thin film sampled by the particles (rendered with the thin-film optics).
     Film,
     /// Bulk fluid droplets (3D fluid particles the film turned into when it ruptured),
-    /// rendered as clear water spheres. [`PointCloud::radius`] holds each droplet's radius.
+    /// rendered as clear water spheres. The readers give them as stored, with no radius unless
+    /// the file names one; [`crate::pipeline::read_input_parts`] sizes them from the run's
+    /// stored masses and volumes ([`crate::pointcloud::droplet_size`]).
     Droplets,
 }
 

@@ -17,15 +17,17 @@
 //! | `m`, `vol`, `sa`, `kh`, `rh_v`, `vrt`, `div`, `p`, `p0`, `p1`, `p2`, `pb`, `gamma`, `conc` | f64 | mass kg, volume m³, area m², Laplacian of H, d(rh)/dt, vorticity, divergence, pressures, surface tension, surfactant concentration | extras |
 //!
 //! The type of each file is decided by its size per particle (4: i32; 8, 16, 24, 32, 72:
-//! 1, 2, 3, 4, 9 f64); every count must equal `x.bin`'s. Droplets' radius is the sphere of
-//! their mass over ρ = 1000 kg/m³ ([`super::frame_folder::WATER_DENSITY`]).
+//! 1, 2, 3, 4, 9 f64); every count must equal `x.bin`'s. `e`, `rh`, `h`, `m`, `sa` and `vol`
+//! stored as int32 are refused (naming the file), and so are droplet masses (`3d/m.bin`) that
+//! are not finite and positive: a droplet's radius is the sphere of its mass over
+//! ρ = 1000 kg/m³, decided with [`crate::pointcloud::droplet_size`] by [`crate::pipeline`].
 
 use std::path::Path;
 
 use glam::Vec3;
 
 use super::columns::{Aliases, Columns};
-use super::frame_folder::{NO_ROLES, WATER_DENSITY, spacing_radius, volume_radius};
+use super::frame_folder::NO_ROLES;
 use super::sim_arrays::{SimArray, decode_elements};
 use super::{CloudPart, PartKind, RADIUS_ALIASES, ReadOptions, format_error, read_file};
 use crate::error::{Error, Result};
@@ -57,39 +59,46 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     )];
     let d3 = dir.join("3d");
     if d3.join("x.bin").is_file() {
-        let (mut cloud, stored) = read_set(&d3, &ReadOptions::default(), &NO_ROLES)?;
+        let (cloud, stored) = read_set(&d3, &ReadOptions::default(), &NO_ROLES)?;
         if !cloud.is_empty() {
-            let note = match cloud.extra("m") {
-                Some(m) => {
-                    let r: Vec<f32> = m
-                        .iter()
-                        .map(|m| volume_radius(f64::from(*m).max(0.0) / WATER_DENSITY) as f32)
-                        .collect();
-                    let r0 = r.first().copied().unwrap_or(0.0);
-                    cloud.radius = Some(r);
-                    format!(
-                        "droplets: water spheres of their mass (m.bin) over 1000 kg/m³, radius {r0:.3e} m"
-                    )
-                }
-                None => {
-                    let r = spacing_radius(&cloud.positions);
-                    cloud.radius = Some(vec![r; cloud.len()]);
-                    format!(
-                        "droplets: no m.bin; spheres of half the median droplet spacing, radius {r:.3e}"
-                    )
-                }
-            };
+            check_masses(&d3.join("m.bin"), &cloud)?;
             parts.push(CloudPart {
-                label: format!("{} (droplets)", d3.display()),
+                label: format!("{} (droplets)", d3.join("x.bin").display()),
                 kind: PartKind::Droplets,
                 cloud,
                 stored,
-                notes: vec![note],
+                notes: Vec::new(),
             });
         }
     }
     Ok(parts)
 }
+
+/// Refuses droplet masses (`m.bin`, kg) that are not finite and positive: a droplet's size is
+/// the sphere of its mass over water's density.
+fn check_masses(path: &Path, cloud: &PointCloud) -> Result<()> {
+    let Some(m) = cloud.extra("m") else {
+        return Ok(());
+    };
+    let bad = m.iter().filter(|m| !(m.is_finite() && **m > 0.0)).count();
+    match m.iter().position(|m| !(m.is_finite() && *m > 0.0)) {
+        None => Ok(()),
+        Some(i) => Err(format_error(
+            path,
+            FORMAT,
+            format!(
+                "{bad} of {} droplet masses are not finite and positive (first: droplet {i}, \
+                 {:e} kg); a droplet is a sphere of its mass over 1000 kg/m³",
+                m.len(),
+                m[i]
+            ),
+        )),
+    }
+}
+
+/// Attributes the writer stores as float64 (`Write_Array` of `real`): read as int32 (4 bytes
+/// a particle) they would be counts, not lengths or masses.
+const FLOAT64_ONLY: &[&str] = &["e", "rh", "h", "m", "sa", "vol"];
 
 /// Reads one folder of `NAME.bin` attributes.
 fn read_set(
@@ -141,6 +150,16 @@ fn read_set(
                 .collect();
             cols.push("e_normal", 3, "float64 3x3 (column 2)", v);
             continue;
+        }
+        if a.stored == "int32" && FLOAT64_ONLY.contains(&attr.as_str()) {
+            return Err(format_error(
+                &p,
+                FORMAT,
+                format!(
+                    "stores 4 bytes a particle (int32), but the simulator writes '{attr}' as \
+                     float64 (8 bytes a particle)"
+                ),
+            ));
         }
         let stored = if a.stored == "int32" {
             "int32"

@@ -3,10 +3,11 @@
 //! missing, radii fitted to the sampling), the droplets kept apart.
 
 use super::config::FilmConfig;
+use super::droplets::read_input_parts;
 use super::prepared::Note;
 pub use super::sample_check::check_sample_params;
 use crate::geometry::Primitive;
-use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud, read_parts};
+use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii_indexed};
 use crate::pointcloud::knn::{KnnTable, PointIndex};
@@ -93,7 +94,7 @@ pub fn load_parts(desc: &SceneDesc, base: &Path) -> Result<Vec<CloudPart>> {
     let opts = read_options(desc)?;
     let mut parts = Vec::new();
     for p in paths {
-        parts.extend(read_parts(&base.join(p), &opts)?);
+        parts.extend(read_input_parts(&base.join(p), &opts)?);
     }
     Ok(parts)
 }
@@ -112,24 +113,34 @@ pub(super) fn nothing_loaded(desc: &SceneDesc, base: &Path) -> Error {
 }
 
 /// Splits the parts into the non-empty films and the droplet clouds, noting each part's notes
-/// and the films left empty.
+/// and the films left empty. Droplets go through the films' checks (or repair), each message
+/// naming the part's file.
 pub(super) fn split(
     parts: Vec<CloudPart>,
+    repairing: bool,
     notes: &mut Vec<Note>,
-) -> (Vec<CloudPart>, Vec<PointCloud>) {
+) -> Result<(Vec<CloudPart>, Vec<PointCloud>)> {
     let mut films = Vec::new();
     let mut drops = Vec::new();
     for part in parts {
         notes.extend(part.notes.iter().map(Note::new));
         match part.kind {
-            PartKind::Droplets => drops.push(part.cloud),
+            PartKind::Droplets => {
+                let mut cloud = part.cloud;
+                if repairing {
+                    let report = repair(&mut cloud);
+                    notes.push(Note::new(format!("{}: {report}", part.label)));
+                }
+                validate(&cloud).map_err(|e| Error::invalid(format!("{}: {e}", part.label)))?;
+                drops.push(cloud);
+            }
             PartKind::Film if part.cloud.is_empty() => {
                 notes.push(Note::new(format!("{}: no film particles left", part.label)));
             }
             PartKind::Film => films.push(part),
         }
     }
-    (films, drops)
+    Ok((films, drops))
 }
 
 /// The films of a scene as one cloud, complete and checked.

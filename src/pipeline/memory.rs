@@ -23,13 +23,14 @@ pub const NEIGHBOUR_BYTES_PER_PARTICLE: u64 = 24 + 12 * 8;
 /// detail (curvature + thickness gradient, 16 B), scaled and sorted radii and the curvature and
 /// gradient arrays before they are moved in (~28 B).
 pub const GEOMETRY_BYTES_PER_PARTICLE: u64 = 62 + 16 + 28;
-/// Render buffers per pixel: RGB, normal (3 × f32 each), alpha, depth, thickness, hit count.
-pub const RENDER_BYTES_PER_PIXEL: u64 = 40;
+/// Render buffers per pixel: RGB, normal (3 × f32 each), alpha, depth, thickness, hit count,
+/// droplet coverage.
+pub const RENDER_BYTES_PER_PIXEL: u64 = 44;
 /// Writing a PNG: the linear copy, the graded copy, the tone-mapped image and the encoder
 /// (measured: 40 B/pixel of heap at 800x600 by `tests/memory_measured.rs`; rounded up).
 pub const PNG_BYTES_PER_PIXEL: u64 = 48;
 /// Writing an EXR: the layer copies and the encoder's buffers (measured, rounded up).
-pub const EXR_BYTES_PER_PIXEL: u64 = 88;
+pub const EXR_BYTES_PER_PIXEL: u64 = 96;
 /// Fixed cost: program, colour tables, thread stacks (measured ~4 MiB, rounded up).
 pub const FIXED_BYTES: u64 = 8 << 20;
 

@@ -13,6 +13,7 @@
 mod build;
 pub mod compare;
 pub mod config;
+mod droplets;
 pub mod framing;
 mod load;
 pub mod memory;
@@ -25,6 +26,7 @@ pub mod sequence;
 mod studio;
 
 pub use config::RenderConfig;
+pub use droplets::{EARLIER_FRAMES, read_input_parts, size_droplets};
 pub use framing::camera;
 pub use load::{
     check_sample_params, load_cloud, load_parts, thickness_unit_factor, thickness_unit_hint,
@@ -87,6 +89,9 @@ pub fn prepare_with(
     let environment = build::environment(&config.environment)?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
+    let mut droplets = droplets;
+    // Droplets smaller than a pixel show their share of it (see render's camera ray).
+    droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
     staging.droplets = droplets;
     let shader = FilmShader::new(
         config.film.ior,
@@ -151,12 +156,12 @@ fn load(
     };
     let load_time = t0.elapsed();
     let t1 = Instant::now();
-    let (films, drops) = load::split(parts, notes);
+    let repairing = desc.input.repair == Some(true);
+    let (films, drops) = load::split(parts, repairing, notes)?;
     let droplets = build::droplets(&drops)?;
     if films.is_empty() && droplets.is_empty() {
         return Err(load::nothing_loaded(desc, base));
     }
-    let repairing = desc.input.repair == Some(true);
     let films = load::films(films, &config.film, repairing, notes)?;
     Ok(Loaded {
         films,

@@ -60,6 +60,7 @@ pub fn write_output(
             layers.normal = Some(out.normal.iter().map(|n| n.to_array()).collect());
             layers.thickness = Some(out.thickness.clone());
             layers.hit_count = Some(out.hits.clone());
+            layers.droplets = Some(out.droplets.clone());
             write_exr(path, &layers)
         }
         _ => Err(Error::invalid(format!(

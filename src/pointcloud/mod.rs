@@ -7,6 +7,7 @@ use glam::Vec3;
 
 pub mod curvature;
 pub mod dedupe;
+pub mod droplet_size;
 pub mod eigen;
 pub mod estimate;
 pub mod gaps;

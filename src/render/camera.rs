@@ -97,6 +97,17 @@ impl Camera {
         self.forward
     }
 
+    /// Radius (scene units) of a disk that covers one pixel of an image `height_px` pixels
+    /// high at point `p`'s distance along the view direction: 0.75 pixel widths (a pixel's
+    /// half-diagonal is 0.71). 0 for a point behind the camera.
+    pub fn pixel_footprint(&self, p: Vec3, height_px: usize) -> f32 {
+        let depth = (p - self.position).dot(self.forward);
+        if depth <= 0.0 || height_px == 0 {
+            return 0.0;
+        }
+        0.75 * 2.0 * self.tan_half_fov * depth / height_px as f32
+    }
+
     /// The ray through film position (`sx`, `sy`) in [0, 1]² (x right, y down), for an image of
     /// aspect ratio `aspect` = width / height.
     #[inline]

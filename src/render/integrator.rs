@@ -12,12 +12,12 @@
 //! once, generic over RGB and spectral radiance; `--shading spectral` runs the spectral
 //! instance, the other modes the RGB one.
 
-use super::radiance::{Lanes, Radiance, RgbLanes, SpectralLanes};
+use super::primary::FirstHits;
+use super::radiance::{Lanes, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading, ShadingMode};
-use super::transport::{Branch, PathState, Tracer};
+use super::transport::{PathState, Tracer};
 use super::world::{MAX_SPP, RenderSettings, World};
-use crate::geometry::SurfaceHit;
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -32,16 +32,21 @@ pub struct RenderOutput {
     pub height: usize,
     /// Linear RGB radiance.
     pub rgb: Vec<Vec3>,
-    /// Fraction of camera samples whose first ray hit a film.
+    /// Share of the pixel's camera samples whose first ray met a film or a droplet (a droplet
+    /// smaller than the pixel counts with its share of it).
     pub alpha: Vec<f32>,
-    /// Mean distance to the first film crossing over the samples that hit (0 where none did).
+    /// Mean distance to the first film crossing or droplet over what was met, weighted by its
+    /// share (0 where nothing was).
     pub depth: Vec<f32>,
-    /// Mean film normal at the first crossing (unit-ish; zero where nothing was hit).
+    /// Mean normal of the first film crossing or droplet (outward), weighted as `depth`
+    /// (unit-ish; zero where nothing was met).
     pub normal: Vec<Vec3>,
     /// Mean film thickness at the first crossing, nm (0 where nothing was hit).
     pub thickness: Vec<f32>,
     /// Mean number of splats blended into the first crossing (0 where nothing was hit).
     pub hits: Vec<f32>,
+    /// Share of the pixel covered by droplets, 0..1 (included in `alpha`).
+    pub droplets: Vec<f32>,
     /// Total rays traced (for throughput figures).
     pub rays: u64,
 }
@@ -153,6 +158,7 @@ fn assemble(w: usize, h: usize, tiles: Vec<Tile>) -> RenderOutput {
         normal: vec![Vec3::ZERO; w * h],
         thickness: vec![0.0; w * h],
         hits: vec![0.0; w * h],
+        droplets: vec![0.0; w * h],
         rays: 0,
     };
     for tile in tiles {
@@ -166,6 +172,7 @@ fn assemble(w: usize, h: usize, tiles: Vec<Tile>) -> RenderOutput {
             out.normal[k] = p.normal;
             out.thickness[k] = p.thickness;
             out.hits[k] = p.hits;
+            out.droplets[k] = p.droplets;
         }
     }
     out
@@ -193,35 +200,44 @@ struct Pixel {
     normal: Vec3,
     thickness: f32,
     hits: f32,
+    droplets: f32,
+    /// Σ share of the samples that saw a film first.
+    film: f32,
 }
 
 impl Pixel {
-    /// Adds one camera sample's radiance `c` and first film crossing.
-    fn add(&mut self, c: Vec3, hit: Option<SurfaceHit>, hit_samples: &mut u32) {
-        if let Some(hit) = hit {
-            *hit_samples += 1;
-            self.depth += hit.t;
-            self.normal += hit.normal;
-            self.thickness += hit.thickness_nm;
-            self.hits += hit.coverage as f32;
+    /// Adds one camera sample's radiance `c` and what it met first.
+    fn add(&mut self, c: Vec3, first: FirstHits) {
+        if let Some((hit, w)) = first.film {
+            self.film += w;
+            self.depth += w * hit.t;
+            self.normal += w * hit.normal;
+            self.thickness += w * hit.thickness_nm;
+            self.hits += w * hit.coverage as f32;
         }
+        self.droplets += first.droplet;
+        self.depth += first.droplet_depth;
+        self.normal += first.droplet_normal;
         // Drop non-finite samples rather than poison the pixel (pbrt does the same).
         if c.is_finite() {
             self.rgb += c;
         }
     }
 
-    /// Means over `spp` samples, of which `hit_samples` met a film.
-    fn finish(&mut self, spp: u32, hit_samples: u32) {
+    /// Means over `spp` samples.
+    fn finish(&mut self, spp: u32) {
         let inv = 1.0 / spp as f32;
         self.rgb *= inv;
-        self.alpha = hit_samples as f32 * inv;
-        if hit_samples > 0 {
-            let k = 1.0 / hit_samples as f32;
-            self.depth *= k;
-            self.normal *= k;
-            self.thickness *= k;
-            self.hits *= k;
+        let seen = self.film + self.droplets;
+        self.alpha = (seen * inv).min(1.0);
+        self.droplets *= inv;
+        if seen > 0.0 {
+            self.depth /= seen;
+            self.normal /= seen;
+        }
+        if self.film > 0.0 {
+            self.thickness /= self.film;
+            self.hits /= self.film;
         }
     }
 }
@@ -285,7 +301,6 @@ fn render_pixel(
 ) -> Pixel {
     let spp = tr.settings.spp;
     let mut p = Pixel::default();
-    let mut hit_samples = 0u32;
     let pattern = SubPixel::new(spp, &mut st.rng);
     for i in 0..spp {
         // Up to 65536 samples a pixel: look at the cancel flag every 64.
@@ -293,16 +308,16 @@ fn render_pixel(
             break;
         }
         let jitter = pattern.at(i, &mut st.rng);
-        let (c, hit) = camera_sample(tr, shader, &px, jitter, st, shading, u);
-        p.add(c, hit, &mut hit_samples);
+        let (c, first) = camera_sample(tr, shader, &px, jitter, st, shading, u);
+        p.add(c, first);
     }
-    p.finish(spp, hit_samples);
+    p.finish(spp);
     p
 }
 
 /// One camera sample at sub-pixel position `jitter` of `px`: its wavelengths (in `shading`,
 /// from the random numbers `u`), lens position and ray, traced; linear RGB radiance and the
-/// first film crossing.
+/// first film crossing or droplets.
 fn camera_sample(
     tr: &Tracer,
     shader: &FilmShader,
@@ -311,7 +326,7 @@ fn camera_sample(
     st: &mut PathState,
     shading: &mut SampleShading,
     u: &mut Vec<f32>,
-) -> (Vec3, Option<SurfaceHit>) {
+) -> (Vec3, FirstHits) {
     let (w, h) = (tr.settings.width, tr.settings.height);
     let camera = &tr.scene.camera;
     let rng = &mut st.rng;
@@ -342,15 +357,15 @@ fn camera_sample(
     }
 }
 
-/// One camera ray: its linear RGB radiance, and the film crossing if a film was nearest.
+/// One camera ray: its linear RGB radiance, and the droplets and film crossing it met first.
 fn first<L: Lanes>(
     tr: &Tracer,
     l: &L,
     ray: &crate::geometry::Ray,
     st: &mut PathState,
-) -> (Vec3, Option<SurfaceHit>) {
-    let (c, hit) = tr.nearest(l, Branch::new(ray, 0, L::C::splat(1.0)), st);
-    (l.to_rgb(c), hit)
+) -> (Vec3, FirstHits) {
+    let (c, seen) = tr.camera_trace(l, ray, st);
+    (l.to_rgb(c), seen)
 }
 
 fn progress_bar(enabled: bool, len: u64) -> indicatif::ProgressBar {

@@ -9,6 +9,7 @@ pub mod integrator;
 pub mod lights;
 pub mod material;
 pub mod presets;
+mod primary;
 pub mod props;
 pub mod radiance;
 pub mod sampler;
