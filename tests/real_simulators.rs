@@ -130,6 +130,7 @@ fn melp_vtp_thickness_is_h_in_metres_and_radius_the_disk_of_sa() {
     }
     // Naming the unit wrongly is told, in one line, with the fix.
     let out = folder("melp-unit").join("u.png");
+    // Named explicitly, the unit is the user's: a warning on stderr, even with -q.
     let (code, said, err) = filmsplat(&[
         "render",
         p.to_str().unwrap(),
@@ -141,12 +142,15 @@ fn melp_vtp_thickness_is_h_in_metres_and_radius_the_disk_of_sa() {
         "preview",
         "--thickness-unit",
         "nm",
+        "-q",
     ]);
     assert_eq!(code, 0, "{err}");
+    assert!(said.is_empty(), "stdout is for data: {said}");
     assert!(
-        said.lines()
-            .any(|l| l.contains("below 0.001 nm") && l.contains("--thickness-unit m")),
-        "{said}"
+        err.lines().any(|l| l.starts_with("filmsplat: warning:")
+            && l.contains("below 0.001 nm")
+            && l.contains("--thickness-unit m")),
+        "{err}"
     );
 }
 

@@ -89,7 +89,7 @@ impl FrameJob for Frames<'_> {
     }
 
     fn prepare(&self, f: u64) -> Result<Prepared> {
-        prepare_frame(&self.args(f)?, false)
+        prepare_frame(&self.args(f)?, crate::pipeline::Progress::Off)
     }
 
     fn render(
