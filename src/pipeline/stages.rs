@@ -4,6 +4,9 @@
 
 use std::time::{Duration, Instant};
 
+/// Stages at least this long leave a line on stderr.
+pub const LOG_AFTER: Duration = Duration::from_secs(1);
+
 /// How stages report their progress (all of it on stderr).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Progress {
@@ -12,7 +15,8 @@ pub enum Progress {
     Off,
     /// A terminal: a spinner while a stage runs, then its line; the render's progress bar.
     Bar,
-    /// A log: one line per finished stage, e.g. `read 1,000,000 particles (0.8 s)`.
+    /// A log: one line per finished stage that took a second or more, e.g.
+    /// `estimated normals, radii (3.1 s)` (quicker stages are in the render's summary).
     Lines,
 }
 
@@ -24,6 +28,11 @@ impl Progress {
         } else {
             Progress::Off
         }
+    }
+
+    /// Whether a stage that took `took` leaves its line: one of a second or more, unless off.
+    pub fn logs(self, took: Duration) -> bool {
+        self != Progress::Off && took >= LOG_AFTER
     }
 
     /// Starts the stage `doing` (e.g. "reading frame 60"): a spinner in a terminal.
@@ -55,14 +64,14 @@ pub struct Stage {
 }
 
 impl Stage {
-    /// Ends the stage: its line `done (1.2 s)` on stderr (unless [`Progress::Off`]); returns
-    /// how long it took.
+    /// Ends the stage: its line `done (1.2 s)` on stderr if it took a second or more (and
+    /// progress is not [`Progress::Off`]); returns how long it took.
     pub fn finish(self, done: &str) -> Duration {
         let took = self.start.elapsed();
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
-        if self.progress != Progress::Off {
+        if self.progress.logs(took) {
             eprintln!("{}", stage_line(done, took));
         }
         took
@@ -112,5 +121,14 @@ mod tests {
             stage_line("read 5 particles", Duration::from_millis(840)),
             "read 5 particles (0.8 s)"
         );
+    }
+
+    #[test]
+    fn stages_of_a_second_or_more_leave_a_line_unless_off() {
+        let (quick, slow) = (Duration::from_millis(999), Duration::from_millis(1000));
+        for p in [Progress::Bar, Progress::Lines] {
+            assert!(!p.logs(quick) && p.logs(slow), "{p:?}");
+        }
+        assert!(!Progress::Off.logs(Duration::from_secs(100)));
     }
 }
