@@ -200,8 +200,9 @@ fn render_at(name: &str, inputs: &[&Path], size: &str, extra: &[&str]) -> (Strin
     );
     args.extend(extra.iter().map(|s| s.to_string()));
     let refs: Vec<&str> = args.iter().map(String::as_str).collect();
-    let (code, said, err) = filmsplat(&refs);
-    assert_eq!(code, 0, "{err}");
+    let (code, out_text, said) = filmsplat(&refs);
+    assert_eq!(code, 0, "{said}");
+    assert!(out_text.is_empty(), "stdout is for data: {out_text}");
     let img = filmsplat::image::read_exr(&out).unwrap();
     (said, img.rgba.iter().map(|p| p[3]).collect())
 }

@@ -9,7 +9,7 @@ use crate::pipeline::sequence;
 use crate::view::{App, Frames, Server, token::Token};
 use crate::{Error, Result};
 use clap::Args;
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -186,13 +186,16 @@ pub fn run(v: &ViewArgs, out: &mut dyn Write, err: &mut dyn Write) -> Result<()>
         let _ = writeln!(out, "{s}");
         let _ = out.flush();
     };
-    say(
-        err,
-        format!(
-            "filmsplat view: preparing {} ...",
-            PathBuf::from(&frames.title).display()
-        ),
-    );
+    // Progress, for a terminal only (a log gets the stages' lines and the error, if any).
+    if !a.quiet && std::io::stderr().is_terminal() {
+        say(
+            err,
+            format!(
+                "filmsplat view: preparing {} ...",
+                PathBuf::from(&frames.title).display()
+            ),
+        );
+    }
     let budget = v
         .cache_memory
         .unwrap_or_else(|| crate::budget::allowance_bytes() / 2);

@@ -24,6 +24,7 @@ mod sample_check;
 pub mod sequence;
 pub mod stages;
 mod studio;
+mod visibility;
 
 pub use config::RenderConfig;
 pub use framing::camera;
@@ -35,6 +36,7 @@ pub use output::{
 };
 pub use prepared::{Note, Prepared};
 pub use stages::Progress;
+pub use visibility::colour_visibility_of;
 
 use crate::Result;
 use crate::io::CloudPart;
