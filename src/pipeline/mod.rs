@@ -101,7 +101,7 @@ pub fn prepare_staged(
     let (width, height) = (config.settings.width, config.settings.height);
     let aspect = scene_aspect(config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
-    let environment = build::environment(&config.environment)?;
+    let environment = build::environment(&config.environment, camera.forward())?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     staging.droplets = droplets;

@@ -5,8 +5,8 @@ use super::Prepared;
 use crate::image::visibility::{ColourVisibility, colour_visibility};
 use crate::render::RenderOutput;
 
-/// The share of `out`'s film pixels whose colour is visible (see
-/// [`crate::image::visibility`]). The backdrop of each pixel is the environment along the
+/// The share of `out`'s film pixels (covered, with a film thickness) whose colour is visible
+/// (see [`crate::image::visibility`]). The backdrop of each pixel is the environment along the
 /// camera ray through its centre (props and area lights are not counted: the measure is of
 /// the environment's lighting). The display is the exposure and tone curve of the PNG.
 /// Cost: one environment lookup per pixel.
@@ -32,5 +32,13 @@ pub fn colour_visibility_of(p: &Prepared, out: &RenderOutput) -> ColourVisibilit
         .iter()
         .map(|c| c.map(|v| p.tonemap.apply(v * gain)))
         .collect();
-    colour_visibility(&pixel, &backdrop, &out.alpha, &display)
+    // Film pixels only: a droplet (water, no interference) may cover a pixel but holds no
+    // film thickness.
+    let coverage: Vec<f32> = out
+        .alpha
+        .iter()
+        .zip(&out.thickness)
+        .map(|(&a, &t)| if t > 0.0 { a } else { 0.0 })
+        .collect();
+    colour_visibility(&pixel, &backdrop, &coverage, &display)
 }
