@@ -564,6 +564,7 @@ fn sequences_shard_resume_and_keep_going() {
     std::fs::remove_file(dir.join("all_02.png")).unwrap();
     let (code, out, err) = render("all_{:02}.png", &["--frames", "0..4", "--resume"]);
     assert_eq!(code, 0, "{err}");
+    assert!(out.is_empty(), "{out}");
     assert_eq!(err.matches("skipped").count(), 3, "{err}");
     assert!(dir.join("all_02.png").exists());
     // A missing frame: stops without --keep-going, the others still render with it.

@@ -220,6 +220,7 @@ fn frame_all_frames_the_union_and_a_named_camera_wins() {
     let dir = moving("seq-all", step);
     let (code, out, err) = render(&dir, "u_{:04}.exr", &["--frame-all"]);
     assert_eq!(code, 0, "{err}");
+    assert!(out.is_empty(), "stdout is for data: {out}");
     assert!(err.contains("all 2 frames"), "{err}");
     let cam = printed_camera(&err);
     let centre = Vec3::from(cam.look_at.unwrap());
