@@ -304,7 +304,11 @@ fn a_reconstructed_mesh_is_compared_and_its_shell_flagged() {
     ];
     let (code, out, err) = filmsplat(&args);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("thin closed shell"), "{out}");
+    assert!(err.contains("thin closed shell"), "{err}");
+    assert!(
+        !out.contains("thin closed shell"),
+        "notes go to stderr: {out}"
+    );
     let v = json(&args);
     assert!(v["b"]["meshing_s"].as_f64().unwrap() > 0.0);
     assert!(v["b"]["elements"].as_u64().unwrap() > 1000);

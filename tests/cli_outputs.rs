@@ -177,7 +177,7 @@ fn an_output_folder_that_cannot_be_made_is_refused_before_any_frame() {
             err.contains("o_0001/f.png") && err.contains("cannot create the output folder"),
             "{err}"
         );
-        assert!(!out.contains("frame 0"), "refused before frame 0: {out}");
+        assert!(!err.contains("frame 0"), "refused before frame 0: {err}");
         assert!(!dir.join("o_0000/f.png").exists());
     }
     // One image, and compare's figure.

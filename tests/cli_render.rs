@@ -25,7 +25,8 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
         "3000",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("3000 particles"));
+    assert!(out.is_empty(), "stdout is for data: {out}");
+    assert!(err.contains("3000 particles"), "{err}");
     let (code, out, err) = filmsplat(&["info", ply.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("3000") && out.contains("thickness"), "{out}");
@@ -47,7 +48,8 @@ fn sample_then_render_as_disks_and_spheres_and_exr() {
             "2",
         ]);
         assert_eq!(code, 0, "{err}");
-        assert!(out.contains("3000 particles"), "{out}");
+        assert!(out.is_empty(), "stdout is for data: {out}");
+        assert!(err.contains("3000 particles"), "{err}");
         assert_eq!(png_size(&png), (64, 48));
         let layers = filmsplat::image::read_exr(&exr).unwrap();
         assert_eq!((layers.width, layers.height), (64, 48));
@@ -399,7 +401,7 @@ fn scientific_views_render_with_colour_bars() {
                 size,
             ]);
             assert_eq!(code, 0, "{view}: {err}");
-            assert!(out.contains(view), "{out}");
+            assert!(out.is_empty() && err.contains(view), "{out} / {err}");
             let (w, h) = size.split_once('x').unwrap();
             let want = (w.parse().unwrap(), h.parse().unwrap());
             assert_eq!(png_size(&png), want, "{view} PNG at {size}");
@@ -450,9 +452,10 @@ fn repair_drops_or_fixes_bad_particles_and_says_so() {
         "--repair",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("dropped 1 with non-finite positions"), "{out}");
-    assert!(out.contains("dropped 1 with bad thickness"), "{out}");
-    assert!(out.contains("3 particles"), "{out}");
+    assert!(out.is_empty(), "{out}");
+    assert!(err.contains("dropped 1 with non-finite positions"), "{err}");
+    assert!(err.contains("dropped 1 with bad thickness"), "{err}");
+    assert!(err.contains("3 particles"), "{err}");
     assert_eq!(png_size(&png), (16, 16));
 }
 
@@ -468,7 +471,7 @@ fn convert_writes_what_was_read() {
         "density,pressure",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("250 particles"));
+    assert!(out.is_empty() && err.contains("250 particles"), "{err}");
     let original = filmsplat::io::read_cloud(
         Path::new(&data("fluid_250_particles.vtu")),
         &Default::default(),
@@ -540,7 +543,7 @@ fn sequences_shard_resume_and_keep_going() {
     };
     let (code, out, err) = render("all_{:02}.png", &["--frames", "0..4"]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("frame 3"), "{out}");
+    assert!(out.is_empty() && err.contains("frame 3"), "{err}");
     for k in ["0/2", "1/2"] {
         let (code, _, err) = render("shard_{:02}.png", &["--frames", "0..=3", "--shard", k]);
         assert_eq!(code, 0, "{err}");
@@ -561,7 +564,8 @@ fn sequences_shard_resume_and_keep_going() {
     std::fs::remove_file(dir.join("all_02.png")).unwrap();
     let (code, out, err) = render("all_{:02}.png", &["--frames", "0..4", "--resume"]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(out.matches("skipped").count(), 3, "{out}");
+    assert!(out.is_empty(), "{out}");
+    assert_eq!(err.matches("skipped").count(), 3, "{err}");
     assert!(dir.join("all_02.png").exists());
     // A missing frame: stops without --keep-going, the others still render with it.
     std::fs::remove_file(dir.join("frame_0001.ply")).unwrap();

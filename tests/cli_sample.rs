@@ -21,7 +21,8 @@ fn every_sample_writes_a_readable_cloud() {
             "0.5",
         ]);
         assert_eq!(code, 0, "{}: {err}", kind.name());
-        assert!(stdout.contains("wrote 600 particles"), "{stdout}");
+        assert!(stdout.is_empty(), "stdout is for data: {stdout}");
+        assert!(err.contains("wrote 600 particles"), "{err}");
         let c = read_cloud(&out, &ReadOptions::default()).unwrap();
         assert_eq!(c.len(), 600);
         assert!(c.normals.is_some() && c.thickness_nm.is_some() && c.radius.is_some());

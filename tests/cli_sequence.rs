@@ -142,6 +142,8 @@ fn a_moving_cloud_moves_in_the_picture_from_the_first_frames_camera() {
     let dir = moving("seq-move", step);
     let (code, out, err) = render(&dir, "all_{:04}.exr", &[]);
     assert_eq!(code, 0, "{err}");
+    assert!(out.is_empty(), "stdout is for data: {out}");
+    let out = err;
     assert!(out.contains("auto-framed on frame 0"), "{out}");
     assert_eq!(out.matches("[camera]").count(), 1, "printed once: {out}");
     let cam = printed_camera(&out);
@@ -163,7 +165,10 @@ fn a_moving_cloud_moves_in_the_picture_from_the_first_frames_camera() {
     for k in ["0/2", "1/2"] {
         let (code, out, err) = render(&dir, "shard_{:04}.exr", &["--shard", k, "-q"]);
         assert_eq!(code, 0, "{err}");
-        assert!(out.is_empty(), "-q prints nothing: {out}");
+        assert!(
+            out.is_empty() && err.is_empty(),
+            "-q prints nothing: {out} {err}"
+        );
     }
     for f in 0..2 {
         let a = std::fs::read(dir.join(format!("all_{f:04}.exr"))).unwrap();
@@ -215,8 +220,9 @@ fn frame_all_frames_the_union_and_a_named_camera_wins() {
     let dir = moving("seq-all", step);
     let (code, out, err) = render(&dir, "u_{:04}.exr", &["--frame-all"]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("all 2 frames"), "{out}");
-    let cam = printed_camera(&out);
+    assert!(out.is_empty(), "stdout is for data: {out}");
+    assert!(err.contains("all 2 frames"), "{err}");
+    let cam = printed_camera(&err);
     let centre = Vec3::from(cam.look_at.unwrap());
     assert!(
         (centre - 0.5 * step).length() < 1e-5,
@@ -252,7 +258,10 @@ fn frame_all_frames_the_union_and_a_named_camera_wins() {
         &["--camera", "1,0,6", "--look-at", "1,0,0"],
     );
     assert_eq!(code, 0, "{err}");
-    assert!(!out.contains("[camera]"), "{out}");
+    assert!(
+        !out.contains("[camera]") && !err.contains("[camera]"),
+        "{out} {err}"
+    );
     let (e0, e1) = (
         centroid(&dir.join("e_0000.exr")),
         centroid(&dir.join("e_0001.exr")),

@@ -428,8 +428,9 @@ fn sixty_thousand_particles_at_one_position_are_drawn_once() {
     pts.extend(sphere(1000));
     let p = write("coincident.ply", &ply(&pts));
     let out = tmp("coincident.png");
-    let (code, stdout, err) = filmsplat(&["render", s(&p), "-o", s(&out), "--size", "64x48"]);
-    assert_eq!(code, 0, "{err}");
+    let (code, data, stdout) = filmsplat(&["render", s(&p), "-o", s(&out), "--size", "64x48"]);
+    assert_eq!(code, 0, "{stdout}");
+    assert!(data.is_empty(), "messages go to stderr: {data}");
     assert!(
         stdout.contains("59999 particles at the same position as an earlier one"),
         "{stdout}"
@@ -673,7 +674,7 @@ fn far_coordinates_are_refused_naming_the_file_and_the_coordinates() {
     );
     assert!(!err.contains("focus_distance"), "{err}");
     // --repair drops it and renders the rest.
-    let (code, stdout, err) = filmsplat(&[
+    let (code, data, err) = filmsplat(&[
         "render",
         s(&p),
         "-o",
@@ -683,7 +684,7 @@ fn far_coordinates_are_refused_naming_the_file_and_the_coordinates() {
         "--repair",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(stdout.contains("dropped 1"), "{stdout}");
+    assert!(data.is_empty() && err.contains("dropped 1"), "{err}");
 }
 
 // ---- 6. Litter ------------------------------------------------------------------------------
@@ -752,8 +753,9 @@ fn a_quoted_glob_renders_every_match_in_order_with_stem_outputs() {
     std::fs::write(dir.join("notes.txt"), "not a frame").unwrap();
     let pattern = format!("{}/b_*.ply", dir.display());
     let out = format!("{}/{{stem}}.png", outdir.display());
-    let (code, stdout, err) = filmsplat(&["render", &pattern, "-o", &out, "--size", "32x24"]);
-    assert_eq!(code, 0, "{err}");
+    let (code, data, stdout) = filmsplat(&["render", &pattern, "-o", &out, "--size", "32x24"]);
+    assert_eq!(code, 0, "{stdout}");
+    assert!(data.is_empty(), "messages go to stderr: {data}");
     let order: Vec<usize> = ["b_01.ply (1/3)", "b_02.ply (2/3)", "b_10.ply (3/3)"]
         .iter()
         .map(|m| stdout.find(m).unwrap_or_else(|| panic!("{m}: {stdout}")))

@@ -133,6 +133,7 @@ fn melp_vtp_thickness_is_h_in_metres_and_radius_the_disk_of_sa() {
     }
     // Naming the unit wrongly is told, in one line, with the fix.
     let out = folder("melp-unit").join("u.png");
+    // Named explicitly, the unit is the user's: a warning on stderr, even with -q.
     let (code, said, err) = filmsplat(&[
         "render",
         p.to_str().unwrap(),
@@ -144,12 +145,15 @@ fn melp_vtp_thickness_is_h_in_metres_and_radius_the_disk_of_sa() {
         "preview",
         "--thickness-unit",
         "nm",
+        "-q",
     ]);
     assert_eq!(code, 0, "{err}");
+    assert!(said.is_empty(), "stdout is for data: {said}");
     assert!(
-        said.lines()
-            .any(|l| l.contains("below 0.001 nm") && l.contains("--thickness-unit m")),
-        "{said}"
+        err.lines().any(|l| l.starts_with("filmsplat: warning:")
+            && l.contains("below 0.001 nm")
+            && l.contains("--thickness-unit m")),
+        "{err}"
     );
 }
 
@@ -199,8 +203,9 @@ fn render_at(name: &str, inputs: &[&Path], size: &str, extra: &[&str]) -> (Strin
     );
     args.extend(extra.iter().map(|s| s.to_string()));
     let refs: Vec<&str> = args.iter().map(String::as_str).collect();
-    let (code, said, err) = filmsplat(&refs);
-    assert_eq!(code, 0, "{err}");
+    let (code, out_text, said) = filmsplat(&refs);
+    assert_eq!(code, 0, "{said}");
+    assert!(out_text.is_empty(), "stdout is for data: {out_text}");
     let img = filmsplat::image::read_exr(&out).unwrap();
     (said, img.rgba.iter().map(|p| p[3]).collect())
 }

@@ -49,6 +49,7 @@ use crate::{Error, Result};
     mut_arg("exr", |a| a.hide(true)),
     mut_arg("primitive", |a| a.hide(true)),
     mut_arg("view", |a| a.hide(true)),
+    mut_arg("view_range", |a| a.hide(true)),
     mut_arg("frame_all", |a| a.hide(true)),
     mut_arg("resume", |a| a.hide(true)),
     mut_arg("keep_going", |a| a.hide(true)),
@@ -112,15 +113,15 @@ struct FrameResult {
 }
 
 /// Runs `filmsplat compare`.
-pub fn run(a: &CompareArgs, out: &mut dyn Write) -> Result<()> {
+pub fn run(a: &CompareArgs, out: &mut dyn Write, err: &mut dyn Write) -> Result<()> {
     let (mesh, output) = checked(a)?;
     let Some(frames) = &a.render.frames else {
         crate::atomic::prepare_output(&output)?;
-        let r = compare_one(a, &mesh, None, &output, out)?;
+        let r = compare_one(a, &mesh, None, &output, err)?;
         report(a, std::slice::from_ref(&r), None, out);
         return Ok(());
     };
-    compare_frames(a, &mesh, &frames.0, &output, out)
+    compare_frames(a, &mesh, &frames.0, &output, out, err)
 }
 
 /// The mesh options and the output of `a`, after refusing what compare does not take.
@@ -183,6 +184,7 @@ fn compare_frames(
     frames: &[u64],
     output: &Path,
     out: &mut dyn Write,
+    err: &mut dyn Write,
 ) -> Result<()> {
     let out_pattern = output.to_string_lossy().into_owned();
     if sequence::expand(&out_pattern, 0)?.is_none() {
@@ -203,7 +205,7 @@ fn compare_frames(
     let mut flicker = [0.0f64; 2];
     for &f in &mine {
         let target = PathBuf::from(sequence::expand(&out_pattern, f)?.expect("checked"));
-        let r = compare_one(a, mesh, Some(f), &target, out)
+        let r = compare_one(a, mesh, Some(f), &target, err)
             .map_err(|e| Error::invalid(format!("frame {f}: {e}")))?;
         if let Some(prev) = results.last() {
             for (k, fl) in flicker.iter_mut().enumerate() {
@@ -230,7 +232,7 @@ fn compare_one(
     mesh: &MeshOptions,
     frame: Option<u64>,
     output: &Path,
-    out: &mut dyn Write,
+    err: &mut dyn Write,
 ) -> Result<FrameResult> {
     let mut ra = a.render.clone();
     ra.frames = None;
@@ -256,22 +258,16 @@ fn compare_one(
     }
     let progress = !a.render.quiet && !a.json && std::io::stderr().is_terminal();
     let variants = prepare_pair(&desc, &base, [&choices[0], &choices[1]], mesh, progress)?;
-    let mut notes: Vec<&String> = Vec::new();
+    let mut notes: Vec<&crate::pipeline::Note> = Vec::new();
     for v in &variants {
         for n in &v.prepared.notes {
-            if !n.text.is_empty() && !n.routine && !notes.contains(&&n.text) {
-                notes.push(&n.text);
+            if n.shown(a.render.quiet) && !notes.iter().any(|m| m.text == n.text) {
+                notes.push(n);
             }
         }
     }
-    if !a.render.quiet {
-        for n in notes {
-            if a.json {
-                eprintln!("{n}");
-            } else {
-                let _ = writeln!(out, "{n}");
-            }
-        }
+    for n in notes {
+        let _ = writeln!(err, "{}", n.message());
     }
     let mut images = Vec::with_capacity(2);
     let mut sides = Vec::with_capacity(2);

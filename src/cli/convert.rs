@@ -1,10 +1,11 @@
 //! `filmsplat convert`: any particle file filmsplat reads, out as binary PLY.
 
-use crate::io::{read_cloud, write_ply};
+use crate::io::{PartKind, read_parts, write_ply};
+use crate::pointcloud::PointCloud;
 use crate::{Error, Result};
 use clap::Args;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `filmsplat convert`.
 #[derive(Debug, Args)]
@@ -12,7 +13,8 @@ pub struct ConvertArgs {
     /// Input particle file or frame folder (any format `render` reads).
     input: PathBuf,
     /// Output PLY (binary little-endian; x y z, nx ny nz, rh in nm, radius, then the other
-    /// attributes, all float).
+    /// attributes, all float): the film particles. An input that also holds droplets (a
+    /// ruptured thin-film SPH frame) writes them to STEM.droplets.ply beside it.
     #[arg(short, long)]
     output: PathBuf,
     #[command(flatten)]
@@ -22,28 +24,58 @@ pub struct ConvertArgs {
     keep: Option<Vec<String>>,
 }
 
-/// Runs `filmsplat convert`.
+/// Runs `filmsplat convert`: every film part of the input into `-o` (one cloud), and the
+/// droplets, when the input holds any, into `STEM.droplets.ply` beside it; says on `out` (the
+/// CLI's messages) what went where.
 pub fn run(a: &ConvertArgs, out: &mut dyn Write) -> Result<()> {
     let opts = a.attributes.read_options()?;
-    let mut cloud = read_cloud(&a.input, &opts)?;
+    let parts = read_parts(&a.input, &opts)?;
+    let of = |kind: PartKind| -> PointCloud {
+        let clouds: Vec<PointCloud> = parts
+            .iter()
+            .filter(|p| p.kind == kind)
+            .map(|p| p.cloud.clone())
+            .collect();
+        PointCloud::concat(&clouds)
+    };
+    let (mut film, mut droplets) = (of(PartKind::Film), of(PartKind::Droplets));
     if let Some(keep) = &a.keep {
         if let Some(missing) = keep
             .iter()
-            .find(|k| !cloud.extra.iter().any(|(n, _)| n == *k))
+            .find(|k| !film.extra.iter().any(|(n, _)| n == *k))
         {
             return Err(Error::invalid(format!(
                 "{}: no attribute '{missing}' to keep",
                 a.input.display()
             )));
         }
-        cloud.extra.retain(|(n, _)| keep.contains(n));
+        film.extra.retain(|(n, _)| keep.contains(n));
+        droplets.extra.retain(|(n, _)| keep.contains(n));
     }
-    write_ply(&a.output, &cloud)?;
+    let droplet_path = (!droplets.is_empty()).then(|| droplets_path(&a.output));
+    if let Some(p) = &droplet_path {
+        write_ply(p, &droplets)?;
+    }
+    write_ply(&a.output, &film)?;
     let _ = writeln!(
         out,
         "wrote {} particles to {}",
-        cloud.len(),
+        film.len(),
         a.output.display()
     );
+    if let Some(p) = droplet_path {
+        let _ = writeln!(
+            out,
+            "wrote {} droplets (the input's other part: radius = each droplet's, scene units) to {}",
+            droplets.len(),
+            p.display()
+        );
+    }
     Ok(())
+}
+
+/// Where the droplets of `output` go: `STEM.droplets.ply` in its folder.
+fn droplets_path(output: &Path) -> PathBuf {
+    let stem = output.file_stem().unwrap_or_default().to_string_lossy();
+    output.with_file_name(format!("{stem}.droplets.ply"))
 }

@@ -16,6 +16,7 @@ mod render_scene;
 mod sample;
 mod sequence;
 mod stability;
+pub mod threads;
 mod view;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +29,16 @@ use std::io::Write;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Worker threads (1..4096). Default: the FILMSPLAT_THREADS environment variable, else
+    /// the CPUs this job was given (CPU affinity, cgroup quota, and at most Slurm's
+    /// SLURM_CPUS_PER_TASK).
+    #[arg(long, global = true, value_name = "N", value_parser = threads_arg)]
+    threads: Option<usize>,
+}
+
+/// clap value parser for `--threads`.
+fn threads_arg(s: &str) -> Result<usize, String> {
+    threads::parse_threads(s, "thread count").map_err(|e| e.to_string())
 }
 
 #[derive(Debug, Subcommand)]
@@ -36,14 +47,16 @@ enum Command {
     Film(film::FilmArgs),
     /// Draw the interference colour chart (colour against thickness and angle) as a PNG.
     Chart(chart::ChartArgs),
-    /// Render a particle cloud (.ply) or a scene file (.toml) to PNG or EXR.
+    /// Render particle files (PLY, VTK, VTK XML, PVD, BGEO, CSV, simulator frame folders) or a
+    /// scene file (.toml) to PNG or EXR.
     Render(Box<render::RenderArgs>),
     /// Describe a particle file: counts, attributes, bounds, spacing, thickness.
     Info(info::InfoArgs),
     /// Write a built-in sample cloud (a gallery scene: bubble, catenoid, films, drip, ...) as
     /// PLY, or a sequence of them.
     Sample(sample::SampleArgs),
-    /// Convert any particle file filmsplat reads to binary PLY.
+    /// Convert any particle file filmsplat reads to binary PLY (droplets, if any, to a second
+    /// file).
     Convert(convert::ConvertArgs),
     /// Render one scene with two geometries (disk, sphere, mls, mesh:FILE, reconstructed):
     /// a side-by-side PNG with a ΔE heat map, timings, PSNR, SSIM and CIEDE2000.
@@ -57,10 +70,21 @@ enum Command {
     View(Box<view::ViewArgs>),
 }
 
-/// Runs the CLI with the given arguments (including the program name), writing normal output
-/// to `out`. Returns the library error for the caller to report (a bad command line as
-/// [`crate::Error::Usage`], or [`crate::Error::Invalid`] naming a refused value); never exits.
+/// Runs the CLI with the given arguments (including the program name), writing its data (CSV,
+/// `info`'s description, metrics) to `out` and its messages (summaries, notes, warnings,
+/// progress lines) to standard error. Returns the library error for the caller to report (a
+/// bad command line as [`crate::Error::Usage`], or [`crate::Error::Invalid`] naming a refused
+/// value); never exits.
 pub fn run<I, T>(args: I, out: &mut dyn Write) -> crate::Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    run_with(args, out, &mut std::io::stderr())
+}
+
+/// [`run`], with the messages written to `err` instead of standard error.
+pub fn run_with<I, T>(args: I, out: &mut dyn Write, err: &mut dyn Write) -> crate::Result<()>
 where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
@@ -87,16 +111,18 @@ where
             return Err(crate::Error::Usage(Box::new(e)));
         }
     };
+    threads::configure(cli.threads)?;
     match cli.command {
         Command::Film(a) => film::run(&a, out),
-        Command::Chart(a) => chart::run(&a, out),
-        Command::Render(a) => render::run(&a, out),
+        Command::Chart(a) => chart::run(&a, err),
+        // Rendering commands write files; everything they say is a message.
+        Command::Render(a) => render::run(&a, err),
         Command::Info(a) => info::run(&a, out),
-        Command::Sample(a) => sample::run(&a, out),
-        Command::Convert(a) => convert::run(&a, out),
-        Command::Compare(a) => compare::run(&a, out),
+        Command::Sample(a) => sample::run(&a, err),
+        Command::Convert(a) => convert::run(&a, err),
+        Command::Compare(a) => compare::run(&a, out, err),
         Command::Stability(a) => stability::run(&a, out),
-        Command::View(a) => view::run(&a, out),
+        Command::View(a) => view::run(&a, out, err),
     }
 }
 

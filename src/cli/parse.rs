@@ -175,3 +175,16 @@ pub fn frame_list(s: &str) -> std::result::Result<FrameList, String> {
 pub fn shard(s: &str) -> std::result::Result<(u64, u64), String> {
     crate::pipeline::sequence::shard(s)
 }
+
+/// clap value parser for a flag whose value names a variant of `T` (a primitive, a preset, a
+/// tone curve...): checked here, so a bad value is reported against the flag rather than the
+/// scene-file key it overrides; kept as the string the scene description takes.
+pub fn named<T>(s: &str) -> Result<String, String>
+where
+    T: std::str::FromStr,
+    T::Err: std::fmt::Display,
+{
+    s.parse::<T>()
+        .map(|_| s.to_string())
+        .map_err(|e| e.to_string())
+}

@@ -28,14 +28,14 @@ pub struct RenderArgs {
     pub(super) exr: Option<PathBuf>,
     /// How particles are drawn: disk (oriented splats, blended into one film), sphere, or mls
     /// (the smooth moving-least-squares surface through the particles).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::geometry::Primitive>)]
     pub(super) primitive: Option<String>,
     /// Settings preset: preview (1 spp, 4 crossings), balanced (the default: 4 spp, 12
     /// crossings) or final (16 spp, 16 crossings), points on the measured speed/accuracy front.
     /// Given here it replaces the scene file's spp, max_depth, min_weight, roulette, shading
     /// and wavelengths; the flags for those still override it. For spheres balanced and final
     /// also play Russian roulette below weight 0.1 (see --roulette).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::render::Preset>)]
     pub(super) preset: Option<String>,
     /// Camera samples per pixel.
     #[arg(long, value_parser = super::parse::int_in::<u32>(1, crate::render::MAX_SPP))]
@@ -49,13 +49,13 @@ pub struct RenderArgs {
     /// Film shading: lut (precomputed colour table, fastest), rgb (per-hit spectral
     /// integration over --wavelengths wavelengths) or spectral (full spectral transport, the
     /// reference; at most 16 wavelengths).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::render::ShadingMode>)]
     pub(super) shading: Option<String>,
     /// Wavelengths per camera sample for --shading rgb (1..64).
     #[arg(long, value_parser = super::parse::int_in::<usize>(1, 64))]
     pub(super) wavelengths: Option<usize>,
     /// Wavelength sampling for --shading rgb: jittered, stratified or hero.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::spectrum::WavelengthStrategy>)]
     pub(super) strategy: Option<String>,
     /// Most film crossings along one path.
     #[arg(long, value_parser = super::parse::int_in::<u32>(0, 64))]
@@ -71,7 +71,7 @@ pub struct RenderArgs {
     pub(super) ior: Option<f32>,
     /// Unit of the file's thickness values: nm, um, mm or m (default: the format's unit, m for
     /// the thin-film SPH code's frame folders, nm otherwise).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::io::ThicknessUnit>)]
     pub(super) thickness_unit: Option<String>,
     /// Extra factor on thickness after the unit conversion.
     #[arg(long, value_parser = super::parse::finite_f32)]
@@ -145,14 +145,14 @@ pub struct RenderArgs {
     #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) saturation: Option<f32>,
     /// Tone curve for PNG: filmic or clamp.
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::image::ToneMap>)]
     pub(super) tonemap: Option<String>,
     /// What to show: shaded (the thin-film render), or a scientific view of the first film
     /// crossing: thickness (false colour with a colour bar, nm), normal, depth, particle-id,
     /// coverage (splats blended per pixel: shows sparse regions and holes), or attribute:NAME
     /// (any stored per-particle attribute, e.g. vrt, conc, gamma; a vector such as v by its
     /// magnitude; with a colour bar).
-    #[arg(long)]
+    #[arg(long, value_parser = super::parse::named::<crate::render::View>)]
     pub(super) view: Option<String>,
     /// Values at the ends of the colour bar of --view attribute:NAME, MIN,MAX (default: the
     /// range of what is visible).

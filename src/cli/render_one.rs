@@ -5,7 +5,7 @@ use super::glob;
 use super::render_args::RenderArgs;
 use super::render_scene::scene_from_args;
 use crate::pipeline;
-use crate::pipeline::{Prepared, memory};
+use crate::pipeline::{Prepared, Progress, memory};
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use std::io::{IsTerminal, Write};
@@ -61,8 +61,8 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
 
 /// Checks everything that can be checked before loading: output names, the estimated peak
 /// memory against --max-memory or the machine's available memory, the output folders
-/// (created); then prepares the scene. `progress` shows the render's progress bar.
-pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> {
+/// (created); then prepares the scene, reporting its stages as `progress` says.
+pub(super) fn prepare_frame(a: &RenderArgs, progress: Progress) -> Result<Prepared> {
     let (desc, base) = scene_from_args(a)?;
     let output = output_path(a, &desc, &base);
     let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
@@ -89,7 +89,19 @@ pub(super) fn prepare_frame(a: &RenderArgs, progress: bool) -> Result<Prepared> 
     for p in &outputs {
         crate::atomic::prepare_output(p)?;
     }
-    pipeline::prepare(&desc, &base, progress)
+    pipeline::prepare_staged(&desc, &base, progress, None)
+}
+
+/// How a render reports its stages: nothing with -q, a spinner and bar in a terminal, a line
+/// per stage in a log.
+pub(super) fn progress_of(a: &RenderArgs) -> Progress {
+    if a.quiet {
+        Progress::Off
+    } else if std::io::stderr().is_terminal() {
+        Progress::Bar
+    } else {
+        Progress::Lines
+    }
 }
 
 /// Renders one image; `ready` is its scene if the caller already prepared it.
@@ -103,22 +115,16 @@ pub(super) fn render_one(
     if output.as_os_str() == "-" {
         return render_to_stdout(a);
     }
-    let progress = !a.quiet && std::io::stderr().is_terminal();
+    let progress = progress_of(a);
     let prepared = match ready {
         Some(mut p) => {
-            p.settings.progress = progress;
+            p.settings.progress = progress == Progress::Bar;
             p
         }
         None => prepare_frame(a, progress).map_err(|e| desc.locate(e))?,
     };
-    if !a.quiet {
-        for note in prepared
-            .notes
-            .iter()
-            .filter(|n| !n.text.is_empty() && !n.routine)
-        {
-            let _ = writeln!(out, "{note}");
-        }
+    for note in prepared.notes.iter().filter(|n| n.shown(a.quiet)) {
+        let _ = writeln!(out, "{}", note.message());
     }
     if let Some(view) = pipeline::render_view(&prepared)? {
         pipeline::write_view(&view, &output)?;

@@ -4,10 +4,11 @@ use super::parse::{self as frame_parse, FrameList};
 use crate::io::{write_mesh_ply, write_ply};
 use crate::pipeline::check_sample_params;
 use crate::pipeline::sequence;
+use crate::pipeline::stages::{Progress, stage_line};
 use crate::samples::{SampleKind, SampleParams, icosphere, sparse};
 use crate::{Error, Result};
 use clap::Args;
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
 /// Frames a second of a generated sequence (as `render --frames` animates samples).
@@ -104,22 +105,33 @@ pub fn run(a: &SampleArgs, out: &mut dyn Write) -> Result<()> {
             crate::atomic::prepare_output(path)?;
         }
     }
+    // A spinner while a frame is generated and written, in a terminal; the line per frame
+    // below is the log's.
+    let progress = Progress::bar_if(std::io::stderr().is_terminal());
     for (path, time) in jobs {
         let p = SampleParams {
             time,
             ..base.clone()
         };
+        let stage = progress.start(&format!("generating {} (t = {time} s)", kind.name()));
         let mut cloud = kind.generate(&p);
         if let Some(f) = a.sparse.filter(|f| *f < 1.0) {
             cloud = sparse(&cloud, f, a.seed);
         }
         write_ply(&path, &cloud)?;
+        let took = stage.finish_silently();
         let _ = writeln!(
             out,
-            "wrote {} particles ({}, t = {time} s) to {}",
-            cloud.len(),
-            kind.name(),
-            path.display()
+            "{}",
+            stage_line(
+                &format!(
+                    "wrote {} particles ({}, t = {time} s) to {}",
+                    cloud.len(),
+                    kind.name(),
+                    path.display()
+                ),
+                took
+            )
         );
     }
     Ok(())

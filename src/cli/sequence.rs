@@ -112,7 +112,7 @@ impl FrameJob for Frames {
     }
 
     fn prepare(&self, f: u64) -> Result<Prepared> {
-        prepare_frame(&self.args(f)?, false)
+        prepare_frame(&self.args(f)?, crate::pipeline::Progress::Off)
     }
 
     fn render(

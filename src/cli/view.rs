@@ -9,14 +9,23 @@ use crate::pipeline::sequence;
 use crate::view::{App, Frames, Server, token::Token};
 use crate::{Error, Result};
 use clap::Args;
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Arguments of `filmsplat view`: `render`'s inputs and scene flags, and where to listen.
+/// `render`'s output flags mean nothing to a preview: hidden from the help, and refused.
 #[derive(Debug, Args)]
+#[command(
+    mut_arg("output", |a| a.hide(true)),
+    mut_arg("exr", |a| a.hide(true)),
+    mut_arg("shard", |a| a.hide(true)),
+    mut_arg("resume", |a| a.hide(true)),
+    mut_arg("keep_going", |a| a.hide(true)),
+    mut_arg("frame_all", |a| a.hide(true)),
+)]
 pub struct ViewArgs {
     #[command(flatten)]
     render: RenderArgs,
@@ -81,7 +90,8 @@ fn refuse_render_only(a: &RenderArgs) -> Result<()> {
     ];
     if let Some((_, flag)) = given.iter().find(|(g, _)| *g) {
         return Err(Error::invalid(format!(
-            "view: {flag} is for `filmsplat render`; the page's save button downloads a picture"
+            "view: {flag} is a flag of `filmsplat render` (files, sequences, farms), not of the \
+             interactive preview; run `filmsplat render` with the same inputs for that"
         )));
     }
     if a.inputs.iter().any(|i| i.as_os_str() == "-") {
@@ -159,7 +169,7 @@ fn frames(a: &RenderArgs) -> Result<Frames> {
 
 /// Runs `filmsplat view`: prepares the first frame (a bad input fails here, exit 2), prints
 /// the URL with its token and serves until Ctrl-C.
-pub fn run(v: &ViewArgs, out: &mut dyn Write) -> Result<()> {
+pub fn run(v: &ViewArgs, out: &mut dyn Write, err: &mut dyn Write) -> Result<()> {
     let a = &v.render;
     refuse_render_only(a)?;
     if let Some(bytes) = a.max_memory {
@@ -176,13 +186,16 @@ pub fn run(v: &ViewArgs, out: &mut dyn Write) -> Result<()> {
         let _ = writeln!(out, "{s}");
         let _ = out.flush();
     };
-    say(
-        out,
-        format!(
-            "filmsplat view: preparing {} ...",
-            PathBuf::from(&frames.title).display()
-        ),
-    );
+    // Progress, for a terminal only (a log gets the stages' lines and the error, if any).
+    if !a.quiet && std::io::stderr().is_terminal() {
+        say(
+            err,
+            format!(
+                "filmsplat view: preparing {} ...",
+                PathBuf::from(&frames.title).display()
+            ),
+        );
+    }
     let budget = v
         .cache_memory
         .unwrap_or_else(|| crate::budget::allowance_bytes() / 2);
@@ -198,19 +211,20 @@ pub fn run(v: &ViewArgs, out: &mut dyn Write) -> Result<()> {
     });
     let local = server.local_addr();
     say(
-        out,
+        err,
         format!(
             "filmsplat view: {count} frame(s), {} particles in the first; Ctrl-C stops the server\n\
              from another machine, tunnel first: ssh -L {p}:localhost:{p} {host}\n\
-             open this URL in a browser (the token in it is the key):\n    {}",
+             open the URL below in a browser (the token in it is the key):",
             server.app().particles,
-            server.url(),
             p = local.port(),
             host = hostname(),
         ),
     );
+    // The URL is the command's data: alone on stdout, for scripts.
+    say(out, server.url());
     server.run();
-    say(out, "filmsplat view: stopped".into());
+    say(err, "filmsplat view: stopped".into());
     Ok(())
 }
 

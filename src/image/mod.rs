@@ -18,6 +18,7 @@ mod png;
 pub mod stability;
 pub mod text;
 mod tonemap;
+pub mod visibility;
 
 pub use crate::atomic::write_atomic;
 pub use buffer::RgbImage;

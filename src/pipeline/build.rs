@@ -195,15 +195,17 @@ pub(super) fn framing(
         .unwrap_or_else(|| Framing::of_splats(bounds.min, bounds.max, &[], &[]))
 }
 
-/// The environment of the configuration; a map's EXR file is read here.
+/// The environment of the configuration (a studio with its dark ground facing `view`, the
+/// camera's viewing direction); a map's EXR file is read here.
 ///
 /// # Errors
 /// As [`crate::image::read_exr_rgba`] for the map.
-pub(super) fn environment(e: &EnvironmentConfig) -> Result<Environment> {
+pub(super) fn environment(e: &EnvironmentConfig, view: Vec3) -> Result<Environment> {
     match e {
+        // The studio's dark ground faces the camera, as a photographer sets it up.
         EnvironmentConfig::Studio { intensity } => Ok(Environment::Studio(Studio {
             intensity: *intensity,
-            ..Studio::default()
+            ..Studio::facing(view)
         })),
         EnvironmentConfig::Uniform(radiance) => Ok(Environment::Uniform(*radiance)),
         EnvironmentConfig::Map {

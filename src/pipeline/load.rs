@@ -175,11 +175,12 @@ impl Films {
 }
 
 /// Readies every film ([`complete`], which checks every thickness against the film's index,
-/// naming the part's file) and joins them into one cloud.
+/// naming the part's file; `flags` = (repairing, the thickness unit was named)) and joins
+/// them into one cloud.
 pub(super) fn films(
     films: Vec<CloudPart>,
     film: &FilmConfig,
-    repairing: bool,
+    flags: (bool, bool),
     notes: &mut Vec<Note>,
 ) -> Result<Films> {
     let single = films.len() == 1;
@@ -189,7 +190,7 @@ pub(super) fn films(
         ..Films::default()
     };
     for part in films {
-        let (cloud, table, had_radius) = complete(part, film, repairing, notes)?;
+        let (cloud, table, had_radius) = complete(part, film, flags, notes)?;
         out.had_radius &= had_radius;
         if single {
             out.neighbours = table;
@@ -205,12 +206,14 @@ pub(super) fn films(
 }
 
 /// One film part made ready to draw: validated (or repaired), coincident copies dropped,
-/// thickness scaled, what is missing estimated, radii fitted. Returns the neighbour table if
-/// one was built (by the estimate, or for the fit), and whether the part came with radii.
+/// thickness scaled (a thickness certainly in another unit refused, unless `unit_explicit`:
+/// the user named the unit or a scale), what is missing estimated, radii fitted. Returns the
+/// neighbour table if one was built (by the estimate, or for the fit), and whether the part
+/// came with radii.
 fn complete(
     part: CloudPart,
     film: &FilmConfig,
-    repairing: bool,
+    (repairing, unit_explicit): (bool, bool),
     notes: &mut Vec<Note>,
 ) -> Result<(PointCloud, Option<KnnTable>, bool)> {
     let label = part.label;
@@ -225,6 +228,16 @@ fn complete(
     if let Some(t) = cloud.thickness_nm.as_mut().filter(|_| scale != 1.0) {
         t.iter_mut().for_each(|v| *v *= scale);
     }
+    if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
+        // A unit that is certainly wrong would render a blank (or white) film: refused,
+        // unless the user named the unit (then they meant it, and are warned).
+        if !unit_explicit {
+            return Err(Error::invalid(format!(
+                "{label}: {hint}, or --thickness-unit nm to render the values as they are"
+            )));
+        }
+        notes.push(Note::warning(format!("{label}: {hint}")));
+    }
     // Before anything is dropped, so the index is the particle's in its own file.
     check_thickness(&cloud, film.ior).map_err(name)?;
     // Copies at one position would be a pile of identical disks no tree can split.
@@ -234,9 +247,6 @@ fn complete(
             "{label}: {coincident} particles at the same position as an earlier one: drawn once"
         )));
     }
-    if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
-        notes.push(Note::new(format!("{label}: {hint}")));
-    }
     let had_radius = cloud.radius.is_some();
     let estimate = EstimateOptions {
         default_thickness_nm: film.default_thickness_nm,
@@ -244,8 +254,8 @@ fn complete(
     };
     let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate);
     notes.push(Note {
-        text: report.to_string(),
         routine: report.filled_nothing(),
+        ..Note::new(report.to_string())
     });
     if repairing {
         validate(&cloud).map_err(name)?;
@@ -307,7 +317,7 @@ pub fn thickness_unit_hint(thickness_nm: &[f32]) -> Option<String> {
     if max > 0.0 && max < 1e-3 {
         Some(format!(
             "thickness values are all below 0.001 nm (max {max:.3e} nm): the file's unit is almost \
-             certainly not nm; if it is metres, read it with --thickness-unit m (film.thickness_unit = \"m\")"
+             certainly not nm (a film in metres?); add --thickness-unit m (film.thickness_unit = \"m\")"
         ))
     } else if min > 1e6 {
         Some(format!(

@@ -23,7 +23,9 @@ mod prepared;
 pub mod reconstruct;
 mod sample_check;
 pub mod sequence;
+pub mod stages;
 mod studio;
+mod visibility;
 
 pub use config::RenderConfig;
 pub use droplets::{EARLIER_FRAMES, read_input_parts, size_droplets};
@@ -35,6 +37,8 @@ pub use output::{
     check_extension, render_view, scene_aspect, write_image, write_output, write_view,
 };
 pub use prepared::{Note, Prepared};
+pub use stages::Progress;
+pub use visibility::colour_visibility_of;
 
 use crate::Result;
 use crate::io::CloudPart;
@@ -43,7 +47,6 @@ use crate::render::{FilmShader, RenderOutput, RenderSettings, Scene};
 use crate::scene::SceneDesc;
 use build::Tolerances;
 use std::path::Path;
-use std::time::Instant;
 
 /// Builds everything the renderer needs from a scene description. `base` is the folder paths
 /// are relative to; `progress` enables the progress bar.
@@ -60,12 +63,23 @@ pub fn prepare_with(
     progress: bool,
     cloud: Option<PointCloud>,
 ) -> Result<Prepared> {
+    prepare_staged(desc, base, Progress::bar_if(progress), cloud)
+}
+
+/// [`prepare_with`], reporting each stage (reading, estimation, building) as `progress` says:
+/// a spinner in a terminal, a line per stage in a log, or nothing.
+pub fn prepare_staged(
+    desc: &SceneDesc,
+    base: &Path,
+    progress: Progress,
+    cloud: Option<PointCloud>,
+) -> Result<Prepared> {
     // Resolve: the typed, checked configuration, before anything is read.
     let config = desc.resolve(base)?;
     let mut notes = Vec::new();
 
     // Load and estimate: the particles, as completed films and droplets.
-    let loaded = load(desc, base, cloud, &config, &mut notes)?;
+    let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
     let radii = films.radii(&config.film);
     let attribute = config
@@ -75,9 +89,12 @@ pub fn prepare_with(
         .transpose()?;
 
     // Build: the film geometry.
-    let t2 = Instant::now();
+    let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
     let geometry = build::film_geometry(&config.film, &films.cloud, &radii, films.neighbours)?;
-    let build_time = t2.elapsed();
+    let build_time = stage.finish(&format!(
+        "built the {geometry} geometry of {} particles",
+        stages::thousands(films.cloud.len())
+    ));
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
     let bounds = geometry.bounds().union(&droplets.bounds());
@@ -86,7 +103,7 @@ pub fn prepare_with(
     let (width, height) = (config.settings.width, config.settings.height);
     let aspect = scene_aspect(config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
-    let environment = build::environment(&config.environment)?;
+    let environment = build::environment(&config.environment, camera.forward())?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     let mut droplets = droplets;
@@ -112,7 +129,7 @@ pub fn prepare_with(
         aspect,
         shader,
         settings: RenderSettings {
-            progress,
+            progress: progress == Progress::Bar,
             ..config.settings
         },
         exposure: config.output.exposure_ev,
@@ -146,29 +163,45 @@ fn load(
     base: &Path,
     cloud: Option<PointCloud>,
     config: &RenderConfig,
+    progress: Progress,
     notes: &mut Vec<Note>,
 ) -> Result<Loaded> {
-    let t0 = Instant::now();
+    let what = desc.input.paths().first().map_or_else(
+        || {
+            format!(
+                "generating the {} sample",
+                desc.input.sample.as_deref().unwrap_or("")
+            )
+        },
+        |p| format!("reading {}", p.display()),
+    );
+    let stage = progress.start(&what);
     let parts = match cloud {
         // A cloud given in memory (the Python API) replaces what `[input]` would load.
         Some(c) => vec![CloudPart::film("the given cloud".into(), c, Vec::new())],
         None => load_parts(desc, base)?,
     };
-    let load_time = t0.elapsed();
-    let t1 = Instant::now();
+    let n: usize = parts.iter().map(|p| p.cloud.len()).sum();
+    let load_time = stage.finish(&format!("read {} particles", stages::thousands(n)));
+    let stage = progress.start("estimating what the particles lack, fitting radii");
     let repairing = desc.input.repair == Some(true);
     let (films, drops) = load::split(parts, repairing, notes)?;
     let droplets = build::droplets(&drops)?;
     if films.is_empty() && droplets.is_empty() {
         return Err(load::nothing_loaded(desc, base));
     }
-    let films = load::films(films, &config.film, repairing, notes)?;
+    let unit_named = desc.film.thickness_unit.is_some() || desc.film.thickness_scale.is_some();
+    let films = load::films(films, &config.film, (repairing, unit_named), notes)?;
+    let estimate_time = stage.finish(&format!(
+        "completed {} film particles (normals, radii, thickness estimated where missing; radii fitted)",
+        stages::thousands(films.cloud.len())
+    ));
     Ok(Loaded {
         films,
         drops,
         droplets,
         load_time,
-        estimate_time: t1.elapsed(),
+        estimate_time,
     })
 }
 

@@ -61,6 +61,9 @@ pub struct Note {
     pub text: String,
     /// A routine report the CLI leaves out: an estimate that had nothing to fill.
     pub routine: bool,
+    /// A warning: something in the input looks wrong (e.g. a thickness unit), shown even
+    /// with `--quiet`.
+    pub warning: bool,
 }
 
 impl Note {
@@ -69,6 +72,29 @@ impl Note {
         Note {
             text: text.into(),
             routine: false,
+            warning: false,
+        }
+    }
+
+    /// A warning (shown even when quiet).
+    pub fn warning(text: impl Into<String>) -> Self {
+        Note {
+            warning: true,
+            ..Note::new(text)
+        }
+    }
+
+    /// Whether the CLI shows it: warnings always, other notes unless `quiet` or routine.
+    pub fn shown(&self, quiet: bool) -> bool {
+        !self.text.is_empty() && (self.warning || (!quiet && !self.routine))
+    }
+
+    /// The line the CLI prints: the text, after `filmsplat: warning: ` for a warning.
+    pub fn message(&self) -> String {
+        if self.warning {
+            format!("filmsplat: warning: {}", self.text)
+        } else {
+            self.text.clone()
         }
     }
 }

@@ -109,12 +109,24 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
-/// The built-in photo studio: a dark gradient backdrop (as bubble photographers use, so the
-/// films' colours stand out) and a few large soft boxes that the films reflect.
+/// The built-in photo studio, set up as bubble photographers do: a dark ground behind and
+/// below the subject (what the camera sees around and through the film), and a large diffuse
+/// source everywhere else (a dome over and behind the camera) that the film reflects, so its
+/// interference colours show over most of its face whatever its shape: a sphere's front
+/// reflects every direction, a flat film viewed from above the dome over it. Two soft boxes
+/// add highlights that show the shape.
+///
+/// The dark ground faces the camera: directions within [`Studio::GROUND_CONE`] of `view`
+/// (the camera's viewing direction), and, in the azimuths around it, every direction below
+/// [`Studio::GROUND_ABOVE_VIEW`] over the view's elevation (the floor and backdrop wall).
 #[derive(Debug, Clone)]
 pub struct Studio {
-    /// Backdrop radiance straight down, at the horizon and straight up.
+    /// Dark ground radiance straight down, at the horizon and straight up.
     pub backdrop: [Vec3; 3],
+    /// Diffuse dome radiance straight down, at the horizon and straight up.
+    pub dome: [Vec3; 3],
+    /// Unit direction the camera looks along: the dark ground is around it.
+    pub view: Vec3,
     /// The soft boxes.
     pub boxes: Vec<SoftBox>,
     /// Multiplier on everything.
@@ -124,16 +136,7 @@ pub struct Studio {
 impl Default for Studio {
     fn default() -> Self {
         let boxes = vec![
-            // Light tent: a very large, soft, dim panel behind and above the default camera
-            // (which looks from +z). A film reflects it over most of its face, so the
-            // interference colours show everywhere, as in bubble photographs.
-            SoftBox::new(
-                Vec3::new(0.25, 0.35, 1.0),
-                (2.2, 1.6),
-                0.9,
-                Vec3::splat(1.4),
-            ),
-            // Key: bright, upper left: a crisp highlight.
+            // Key: bright, upper left behind the camera: a crisp highlight.
             SoftBox::new(
                 Vec3::new(-0.55, 0.55, 0.62),
                 (0.30, 0.40),
@@ -147,20 +150,23 @@ impl Default for Studio {
                 0.06,
                 Vec3::new(3.2, 3.0, 2.7),
             ),
-            // Top strip: a line of light along the bubble's crown.
-            SoftBox::new(
-                Vec3::new(0.0, 1.0, 0.15),
-                (0.70, 0.18),
-                0.05,
-                Vec3::splat(4.0),
-            ),
         ];
         Studio {
             backdrop: [
-                Vec3::new(0.010, 0.010, 0.012),
-                Vec3::new(0.030, 0.032, 0.040),
-                Vec3::new(0.060, 0.065, 0.080),
+                Vec3::new(0.004, 0.004, 0.005),
+                Vec3::new(0.010, 0.010, 0.013),
+                Vec3::new(0.016, 0.017, 0.021),
             ],
+            // Bright enough that a film of 4 % reflectance (a thick film, or a thin one off its
+            // colour peaks) shows at L* ≈ 30 and more: the dome floor is a white sheet.
+            dome: [
+                Vec3::new(1.2, 1.2, 1.2),
+                Vec3::new(2.0, 2.0, 2.05),
+                Vec3::new(3.0, 3.0, 3.1),
+            ],
+            // The default auto-framed camera looks from +z, a little right and above
+            // (`pipeline::config::DEFAULT_FROM`).
+            view: -Vec3::new(0.35, 0.3, 1.0).normalize(),
             boxes,
             intensity: 1.0,
         }
@@ -168,13 +174,68 @@ impl Default for Studio {
 }
 
 impl Studio {
+    /// Half-angle of the cone of dark ground around the view direction, degrees: the middle
+    /// of the picture even when the camera looks straight down (the wall below is the rest).
+    /// Narrower than the picture's diagonal on purpose: a flat film seen from 16° above (the
+    /// default camera's elevation) reflects the direction 32° above the view, which must be
+    /// dome.
+    pub const GROUND_CONE: f32 = 22.0;
+    /// How far the dark ground wall reaches above the view's elevation, degrees (the top of a
+    /// 40° picture is 20° above it).
+    pub const GROUND_ABOVE_VIEW: f32 = 22.0;
+    /// Half-width of the dark wall's azimuths around the view's, degrees (a 16:9 picture of
+    /// 40° vertical field spans ±33°).
+    pub const GROUND_AZIMUTH: f32 = 50.0;
+    /// Width of the soft edge between dark ground and dome, degrees.
+    pub const SOFT_EDGE: f32 = 6.0;
+
+    /// The default studio with its dark ground facing `view` (the camera's viewing
+    /// direction; the default's if zero or not finite).
+    pub fn facing(view: Vec3) -> Self {
+        let d = Studio::default();
+        match view.try_normalize() {
+            Some(v) => Studio { view: v, ..d },
+            None => d,
+        }
+    }
+
+    /// How much of direction `dir` is dark ground, 0 (dome) ..= 1.
+    fn ground(&self, dir: Vec3) -> f32 {
+        let deg = |c: f32| c.clamp(-1.0, 1.0).acos().to_degrees();
+        let soft = Self::SOFT_EDGE;
+        let cone = smoothstep(
+            Self::GROUND_CONE + soft,
+            Self::GROUND_CONE,
+            deg(dir.dot(self.view)),
+        );
+        let elevation = |d: Vec3| d.y.clamp(-1.0, 1.0).asin().to_degrees();
+        let top = elevation(self.view) + Self::GROUND_ABOVE_VIEW;
+        let below = smoothstep(top + soft, top, elevation(dir));
+        let azimuth = match (
+            Vec3::new(dir.x, 0.0, dir.z).try_normalize(),
+            Vec3::new(self.view.x, 0.0, self.view.z).try_normalize(),
+        ) {
+            (Some(a), Some(b)) => smoothstep(
+                Self::GROUND_AZIMUTH + soft,
+                Self::GROUND_AZIMUTH,
+                deg(a.dot(b)),
+            ),
+            // Straight up or down, or a camera looking straight down: the cone decides.
+            _ => 0.0,
+        };
+        cone.max(below * azimuth)
+    }
+
     fn radiance(&self, dir: Vec3) -> Vec3 {
         let y = dir.y.clamp(-1.0, 1.0);
-        let back = if y < 0.0 {
-            self.backdrop[1].lerp(self.backdrop[0], -y)
-        } else {
-            self.backdrop[1].lerp(self.backdrop[2], y)
+        let gradient = |g: &[Vec3; 3]| {
+            if y < 0.0 {
+                g[1].lerp(g[0], -y)
+            } else {
+                g[1].lerp(g[2], y)
+            }
         };
+        let back = gradient(&self.backdrop).lerp(gradient(&self.dome), 1.0 - self.ground(dir));
         let boxes: Vec3 = self.boxes.iter().map(|b| b.radiance(dir)).sum();
         (back + boxes) * self.intensity
     }
@@ -233,6 +294,31 @@ mod tests {
             s.radiance(Vec3::new(0.0, -0.2, -1.0).normalize())
                 .max_element()
                 < 0.1
+        );
+        // The dome: what a horizontal film seen by the default camera reflects (32° above
+        // the view), straight up, and behind the camera; the dark ground faces the camera.
+        for bright in [
+            Vec3::new(-0.35, 0.3, -1.0),
+            Vec3::Y,
+            Vec3::new(0.0, -0.5, 1.0),
+        ] {
+            assert!(
+                s.radiance(bright.normalize()).min_element() > 1.0,
+                "{bright}"
+            );
+        }
+        let turned = Environment::Studio(Studio::facing(Vec3::X));
+        assert!(
+            turned
+                .radiance(Vec3::new(1.0, -0.1, 0.0).normalize())
+                .max_element()
+                < 0.1
+        );
+        assert!(
+            turned
+                .radiance(Vec3::new(-1.0, -0.1, 0.0).normalize())
+                .min_element()
+                > 1.0
         );
         for i in 0..1000 {
             let d = Vec3::new(
