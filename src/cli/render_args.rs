@@ -103,6 +103,11 @@ pub struct RenderArgs {
     /// curvature (faster set-up; curved films then show faceted reflections).
     #[arg(long)]
     pub(super) flat_splats: bool,
+    /// How 3D particles packed into bodies of liquid (drops falling onto a film) are drawn:
+    /// surface (a refracting water surface through them, the default; particles with no liquid
+    /// neighbours stay droplets) or droplets (every 3D particle a droplet).
+    #[arg(long)]
+    pub(super) liquid: Option<String>,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
     #[arg(long)]
     pub(super) env: Option<String>,

@@ -14,6 +14,7 @@ mod build;
 pub mod compare;
 pub mod config;
 pub mod framing;
+mod liquid;
 mod load;
 pub mod memory;
 mod output;
@@ -26,6 +27,7 @@ mod studio;
 
 pub use config::RenderConfig;
 pub use framing::camera;
+pub use liquid::LiquidMode;
 pub use load::{
     check_sample_params, load_cloud, load_parts, thickness_unit_factor, thickness_unit_hint,
 };
@@ -65,6 +67,7 @@ pub fn prepare_with(
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, &mut notes)?;
     let (films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
+    let liquid = loaded.liquid;
     let radii = films.radii(&config.film);
     let attribute = config
         .attribute
@@ -78,7 +81,10 @@ pub fn prepare_with(
     let build_time = t2.elapsed();
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
-    let bounds = geometry.bounds().union(&droplets.bounds());
+    let bounds = geometry
+        .bounds()
+        .union(&droplets.bounds())
+        .union(&liquid.bounds());
     let tol = Tolerances::of(bounds, config.film.primitive, &radii);
     let framing = build::framing(&geometry, &films.cloud, &radii, &drops, bounds);
     let (width, height) = (config.settings.width, config.settings.height);
@@ -88,6 +94,7 @@ pub fn prepare_with(
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     staging.droplets = droplets;
+    staging.liquid = liquid;
     let shader = FilmShader::new(
         config.film.ior,
         config.shading,
@@ -130,6 +137,7 @@ struct Loaded {
     films: load::Films,
     drops: Vec<PointCloud>,
     droplets: crate::geometry::Droplets,
+    liquid: crate::geometry::LiquidSurface,
     load_time: std::time::Duration,
     estimate_time: std::time::Duration,
 }
@@ -152,8 +160,9 @@ fn load(
     let load_time = t0.elapsed();
     let t1 = Instant::now();
     let (films, drops) = load::split(parts, notes);
-    let droplets = build::droplets(&drops)?;
-    if films.is_empty() && droplets.is_empty() {
+    let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, notes)?;
+    let droplets = build::droplets(&kept)?;
+    if films.is_empty() && droplets.is_empty() && liquid.is_empty() {
         return Err(load::nothing_loaded(desc, base));
     }
     let repairing = desc.input.repair == Some(true);
@@ -162,6 +171,7 @@ fn load(
         films,
         drops,
         droplets,
+        liquid,
         load_time,
         estimate_time: t1.elapsed(),
     })
