@@ -83,11 +83,22 @@ pub(super) fn split(
             subset(d, &keep[range])
         })
         .collect();
+    // What the particles' stored mass holds, for comparison: their droplet spheres' volume.
+    let radii: Vec<f32> = drops
+        .iter()
+        .flat_map(|d| d.radius.clone().unwrap_or_else(|| vec![0.0; d.len()]))
+        .collect();
+    let stored: f64 = split
+        .liquid
+        .iter()
+        .map(|&i| 4.0 / 3.0 * std::f64::consts::PI * (radii[i] as f64).powi(3))
+        .sum();
+    let drawn = split.liquid.len() as f64 * (split.spacing as f64).powi(3);
     notes.push(Note::new(format!(
-        "3D particles: {} in liquid bodies, drawn as a water surface (spacing {:.3e} m, each \
-         particle the volume spacing³ the 3D SPH solver gives it, not its mass / ρ), {} stay \
-         droplets (fewer than {} neighbours within {} spacings); --liquid droplets draws them \
-         all as droplets",
+        "3D particles: {} in liquid bodies, drawn as a water surface (spacing {:.3e} m; each \
+         particle the volume spacing³ the 3D SPH solver gives it, {drawn:.3e} m³ in all, where \
+         their mass as droplets holds {stored:.3e} m³), {} stay droplets (fewer than {} \
+         neighbours within {} spacings); --liquid droplets draws them all as droplets",
         split.liquid.len(),
         split.spacing,
         split.droplets.len(),

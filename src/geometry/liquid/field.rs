@@ -109,7 +109,7 @@ impl Sums {
         // J = ∂v/∂x = M / W − I − v ⊗ G / W.
         let vg = Mat3::from_cols(v * self.g.x, v * self.g.y, v * self.g.z);
         let j = (self.m - vg) * (1.0 / self.w) - Mat3::IDENTITY;
-        -(j.transpose() * v) / len
+        (j.transpose() * v) / len
     }
 }
 
