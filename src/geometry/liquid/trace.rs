@@ -92,7 +92,8 @@ impl LiquidSurface {
         if self.is_empty() || !ray.is_valid() || t_min.is_nan() || t_max.is_nan() {
             return None;
         }
-        let t_max = t_max.min(f32::MAX);
+        // Rays run over t ≥ 0 (so entry distances sort by their bits, below).
+        let (t_min, t_max) = (t_min.max(0.0), t_max.min(f32::MAX));
         if t_min >= t_max {
             return None;
         }
@@ -143,7 +144,8 @@ impl LiquidSurface {
                 }
             }
         });
-        cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+        // Non-negative floats order as their bits.
+        cands.sort_unstable_by_key(|c| c.ta.to_bits());
     }
 
     /// φ at `ray.at(t)` over the active spheres `on` (the field module's sums, written for
