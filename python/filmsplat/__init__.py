@@ -53,6 +53,7 @@ _KNOBS = {
         "normal_attr",
         "radius_attr",
         "repair",
+        "liquid",
     ),
     "film": (
         "ior",
