@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::columns::{Aliases, Columns};
-use super::sim_arrays::decode_floats;
+use super::sim_arrays::{decode_floats, float_count};
 use super::{AttributeRole, CloudPart, PartKind, StoredAttribute};
 use super::{FRAME_NORMAL_ALIASES, FRAME_THICKNESS_ALIASES, RADIUS_ALIASES, ReadOptions};
 use super::{format_error, read_file};
@@ -327,6 +327,37 @@ fn film_particle_volume(cloud: &PointCloud) -> Option<f64> {
     Some(*v.select_nth_unstable_by(mid, f64::total_cmp).1)
 }
 
+/// The run's first frame folder for the frame folder `dir` (`<run>/<N>` → `<run>/0`, `dir`
+/// itself for frame 0), whether or not it exists; `None` if `dir` has no parent. Plain data:
+/// what it means for rendering is the pipeline's decision.
+pub fn run_first_frame(dir: &Path) -> Option<PathBuf> {
+    dir.parent().map(|p| p.join("0"))
+}
+
+/// How many 3D particles (droplets) the frame folder `dir`'s `tracker_points_3d` holds (0
+/// without the file), from its 4-byte header and its size alone, with the checks of the full
+/// read.
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be opened or read; [`Error::Format`] naming it if the
+/// header and size disagree (as the full read).
+pub fn droplet_count(dir: &Path) -> Result<usize> {
+    use std::io::Read;
+    let tp = dir.join("tracker_points_3d");
+    if !tp.is_file() {
+        return Ok(0);
+    }
+    let mut f = std::fs::File::open(&tp).map_err(|e| Error::io(&tp, e))?;
+    let size = f.metadata().map_err(|e| Error::io(&tp, e))?.len();
+    let mut head = [0u8; 4];
+    if size < 4 {
+        let m = format!("{size} bytes: shorter than its 4-byte count");
+        return Err(format_error(&tp, FORMAT, m));
+    }
+    f.read_exact(&mut head).map_err(|e| Error::io(&tp, e))?;
+    float_count(head, size - 4, 4).map_err(|m| format_error(&tp, FORMAT, m))
+}
+
 /// The droplets' radius (scene units, metres) and how it was found: the sphere of a film
 /// particle's volume `SA·H` (the simulator turns a film particle into a droplet of the same
 /// mass) in this frame's film, else in the run's first frame (`../0`); else half the
@@ -341,8 +372,7 @@ pub fn droplet_radius(dir: &Path, film: &PointCloud, droplets: &[Vec3]) -> (f32,
             ),
         );
     }
-    let first = dir.parent().map(|p| p.join("0"));
-    if let Some(first) = first.filter(|f| f.join("x_bin").is_file() && f != dir)
+    if let Some(first) = run_first_frame(dir).filter(|f| f.join("x_bin").is_file() && f != dir)
         && let Ok(c) = read(&first, &ReadOptions::default())
         && let Some(v) = film_particle_volume(&c)
     {

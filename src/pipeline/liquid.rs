@@ -1,11 +1,15 @@
 //! Bulk liquid apart from droplets: the 3D particles of the droplet parts are classified
 //! ([`crate::pointcloud::liquid::classify`]); those in liquid bodies become the
-//! [`LiquidSurface`], the rest stay droplets. `[input] liquid = "droplets"` (CLI `--liquid
-//! droplets`) keeps every 3D particle a droplet, as before.
+//! [`LiquidSurface`], the rest stay droplets. By default (`[input] liquid = "auto"`) the run's
+//! frame 0 decides first ([`super::liquid_origin`]): 3D particles shed after it stay droplets.
+//! `"surface"` (CLI `--liquid surface`) always classifies; `"droplets"` keeps every 3D particle
+//! a droplet, as before.
 
+use std::path::PathBuf;
 use std::str::FromStr;
 
 use super::Note;
+use super::liquid_origin::{Origin, origin};
 use crate::geometry::LiquidSurface;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::liquid::classify;
@@ -15,8 +19,12 @@ use crate::{Error, Result};
 /// How bulk liquid is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum LiquidMode {
-    /// Particles in liquid bodies as a water surface; the rest droplets (the default).
+    /// As `Surface` for the 3D particles of a thin-film SPH run present since its frame 0 (or
+    /// when there is no frame 0 to ask); every 3D particle a droplet when the run's frame 0
+    /// holds none (spray shed by a rupture). The default.
     #[default]
+    Auto,
+    /// Particles in liquid bodies as a water surface; the rest droplets.
     Surface,
     /// Every 3D particle a droplet.
     Droplets,
@@ -25,19 +33,20 @@ pub enum LiquidMode {
 impl FromStr for LiquidMode {
     type Err = Error;
 
-    /// Parses `"surface"` or `"droplets"` (case-insensitive).
+    /// Parses `"auto"`, `"surface"` or `"droplets"` (case-insensitive).
     fn from_str(s: &str) -> Result<Self> {
         match s.trim().to_ascii_lowercase().as_str() {
+            "auto" => Ok(LiquidMode::Auto),
             "surface" => Ok(LiquidMode::Surface),
             "droplets" => Ok(LiquidMode::Droplets),
             _ => Err(Error::invalid(format!(
-                "input.liquid: unknown value '{s}' (expected 'surface' or 'droplets')"
+                "input.liquid: unknown value '{s}' (expected 'auto', 'surface' or 'droplets')"
             ))),
         }
     }
 }
 
-/// The scene's liquid mode (`[input] liquid`, default surface).
+/// The scene's liquid mode (`[input] liquid`, default auto).
 ///
 /// # Errors
 /// An unknown value.
@@ -45,29 +54,61 @@ pub(super) fn mode(desc: &SceneDesc) -> Result<LiquidMode> {
     desc.input
         .liquid
         .as_deref()
-        .map_or(Ok(LiquidMode::Surface), str::parse)
+        .map_or(Ok(LiquidMode::Auto), str::parse)
 }
 
-/// Splits the droplet parts `drops` into the particles that stay droplets (one cloud per part,
-/// attributes kept) and the liquid bodies' surface; notes how many went where.
+/// Splits the droplet parts `drops` of the inputs `inputs` (resolved paths; none for a cloud
+/// given in memory) into the particles that stay droplets (one cloud per part, attributes
+/// kept) and the liquid bodies' surface; notes which rule decided and how many went where.
 ///
 /// # Errors
 /// As [`LiquidSurface::build`].
 pub(super) fn split(
     drops: &[PointCloud],
     mode: LiquidMode,
+    inputs: &[PathBuf],
     notes: &mut Vec<Note>,
 ) -> Result<(Vec<PointCloud>, LiquidSurface)> {
     let total: usize = drops.iter().map(PointCloud::len).sum();
-    if mode == LiquidMode::Droplets || total == 0 {
-        return Ok((drops.to_vec(), LiquidSurface::default()));
-    }
+    let why = match mode {
+        _ if total == 0 => return Ok((drops.to_vec(), LiquidSurface::default())),
+        LiquidMode::Droplets => return Ok((drops.to_vec(), LiquidSurface::default())),
+        LiquidMode::Surface => "--liquid surface".to_string(),
+        LiquidMode::Auto => match origin(inputs) {
+            Origin::Shed(first) => {
+                notes.push(Note::new(format!(
+                    "liquid: 3D particles shed after frame 0 of this run ({} holds none): \
+                     drawn as {total} droplets (--liquid surface draws bodies)",
+                    first.display()
+                )));
+                return Ok((drops.to_vec(), LiquidSurface::default()));
+            }
+            Origin::SetUp(first, n) => format!(
+                "{total} 3D particles present since frame 0 ({} holds {n})",
+                first.display()
+            ),
+            Origin::Unknown(why) => format!("{why}: positions decide"),
+        },
+    };
+    by_packing(drops, &why, notes)
+}
+
+/// [`split`] by the particles' packing ([`classify`]); `why` starts the note.
+fn by_packing(
+    drops: &[PointCloud],
+    why: &str,
+    notes: &mut Vec<Note>,
+) -> Result<(Vec<PointCloud>, LiquidSurface)> {
+    let total: usize = drops.iter().map(PointCloud::len).sum();
     let positions: Vec<_> = drops
         .iter()
         .flat_map(|d| d.positions.iter().copied())
         .collect();
     let split = classify(&positions);
     if split.liquid.is_empty() {
+        notes.push(Note::new(format!(
+            "liquid: {why}: no 3D particle packed into a body, {total} droplets"
+        )));
         return Ok((drops.to_vec(), LiquidSurface::default()));
     }
     let liquid: Vec<_> = split.liquid.iter().map(|&i| positions[i]).collect();
@@ -95,10 +136,11 @@ pub(super) fn split(
         .sum();
     let drawn = split.liquid.len() as f64 * (split.spacing as f64).powi(3);
     notes.push(Note::new(format!(
-        "3D particles: {} in liquid bodies, drawn as a water surface (spacing {:.3e} m; each \
+        "liquid: {why}: {} bodies of water: 3D particles: {} in liquid bodies, drawn as a water surface (spacing {:.3e} m; each \
          particle the volume spacing³ the 3D SPH solver gives it, {drawn:.3e} m³ in all, where \
          their mass as droplets holds {stored:.3e} m³), {} stay droplets (fewer than {} \
          neighbours within {} spacings); --liquid droplets draws them all as droplets",
+        split.bodies,
         split.liquid.len(),
         split.spacing,
         split.droplets.len(),
@@ -144,6 +186,8 @@ mod tests {
             "droplets".parse::<LiquidMode>().unwrap(),
             LiquidMode::Droplets
         );
+        assert_eq!("AUTO".parse::<LiquidMode>().unwrap(), LiquidMode::Auto);
+        assert_eq!(LiquidMode::default(), LiquidMode::Auto);
         assert!("mesh".parse::<LiquidMode>().is_err());
     }
 }

@@ -15,6 +15,7 @@ pub mod compare;
 pub mod config;
 pub mod framing;
 mod liquid;
+mod liquid_origin;
 mod load;
 pub mod memory;
 mod output;
@@ -152,6 +153,11 @@ fn load(
     notes: &mut Vec<Note>,
 ) -> Result<Loaded> {
     let t0 = Instant::now();
+    // The inputs the droplet parts came from (none for a cloud given in memory).
+    let inputs: Vec<_> = match cloud {
+        Some(_) => Vec::new(),
+        None => desc.input.paths().iter().map(|p| base.join(p)).collect(),
+    };
     let parts = match cloud {
         // A cloud given in memory (the Python API) replaces what `[input]` would load.
         Some(c) => vec![CloudPart::film("the given cloud".into(), c, Vec::new())],
@@ -160,7 +166,7 @@ fn load(
     let load_time = t0.elapsed();
     let t1 = Instant::now();
     let (films, drops) = load::split(parts, notes);
-    let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, notes)?;
+    let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
     if films.is_empty() && droplets.is_empty() && liquid.is_empty() {
         return Err(load::nothing_loaded(desc, base));

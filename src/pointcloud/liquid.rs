@@ -39,6 +39,9 @@ pub struct LiquidSplit {
     pub liquid: Vec<usize>,
     /// Indices of the particles that stay droplets.
     pub droplets: Vec<usize>,
+    /// Number of separate bodies: the liquid particles joined through the core particles
+    /// within [`NEIGHBOUR_SPACINGS`] spacings of each other or of them.
+    pub bodies: usize,
 }
 
 /// The spacing s of `m`-th neighbour distances `d`: `d / (3m / 4π)^⅓`.
@@ -54,6 +57,7 @@ pub fn classify(positions: &[Vec3]) -> LiquidSplit {
         spacing: 0.0,
         liquid: Vec::new(),
         droplets: (0..n).collect(),
+        bodies: 0,
     };
     if n <= CORE_NEIGHBOURS {
         return all_droplets();
@@ -76,10 +80,30 @@ pub fn classify(positions: &[Vec3]) -> LiquidSplit {
         .collect();
     let (liquid, droplets): (Vec<usize>, Vec<usize>) =
         (0..n).partition(|&i| core[i] || within(i).any(|(j, _)| core[j as usize]));
+    // Bodies: each core particle joined to every particle within reach (union-find).
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in (0..n).filter(|&i| core[i]) {
+        for (j, _) in within(i) {
+            let (a, b) = (root(&mut parent, i), root(&mut parent, j as usize));
+            parent[a] = b;
+        }
+    }
+    let bodies = liquid
+        .iter()
+        .filter(|&&i| root(&mut parent, i) == i)
+        .count();
     LiquidSplit {
         spacing,
         liquid,
         droplets,
+        bodies,
     }
 }
 
@@ -116,6 +140,10 @@ mod tests {
         );
         assert_eq!(split.liquid, (0..block).collect::<Vec<_>>());
         assert_eq!(split.droplets.len(), p.len() - block);
+        assert_eq!(split.bodies, 1);
+        // A second block far away is a second body.
+        p.extend(lattice(4, 4, 4, s, Vec3::new(0.0, 0.0, 2.0)));
+        assert_eq!(classify(&p).bodies, 2);
     }
 
     #[test]
