@@ -103,9 +103,10 @@ pub struct RenderArgs {
     /// curvature (faster set-up; curved films then show faceted reflections).
     #[arg(long)]
     pub(super) flat_splats: bool,
-    /// How 3D particles packed into bodies of liquid (drops falling onto a film) are drawn:
-    /// surface (a refracting water surface through them, the default; particles with no liquid
-    /// neighbours stay droplets) or droplets (every 3D particle a droplet).
+    /// How 3D particles are drawn: auto (the default: if the run's frame 0, <run>/0, holds no
+    /// 3D particles, they were shed later and stay droplets; otherwise as surface), surface
+    /// (particles packed into bodies of liquid, e.g. drops falling onto a film, as a refracting
+    /// water surface; the rest droplets) or droplets (every 3D particle a droplet).
     #[arg(long)]
     pub(super) liquid: Option<String>,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
