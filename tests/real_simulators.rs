@@ -217,11 +217,14 @@ fn render(name: &str, inputs: &[&Path], extra: &[&str]) -> (String, Vec<f32>) {
 
 #[test]
 fn frames_render_as_written_droplets_included() {
-    // Frame 100: 14 film particles and 2,548 droplets; the picture holds both.
+    // Frame 100: 14 film particles and 2,548 droplets; the picture holds both. (By default
+    // the 3D particles packed into bodies are drawn as a water surface, see
+    // tests/render_liquid.rs; here every one is counted as a droplet.)
+    let as_droplets: &[&str] = &["--liquid", "droplets"];
     let (said, _) = render(
         "sph-100",
         &[&data("thin-film-sph/bursting_bubble/100")],
-        &[],
+        as_droplets,
     );
     assert!(
         said.contains("14 particles") && said.contains("2548 droplets"),
@@ -237,7 +240,7 @@ fn frames_render_as_written_droplets_included() {
     for film in ["x_bin", "norm_bin", "h_bin", "rh_bin", "kh_bin", "sa_bin"] {
         std::fs::write(dir.join(film), 0u32.to_le_bytes()).unwrap();
     }
-    let (said, _) = render("sph-empty-film", &[&dir], &[]);
+    let (said, _) = render("sph-empty-film", &[&dir], as_droplets);
     assert!(
         said.contains("0 particles") && said.contains("2548 droplets"),
         "{said}"

@@ -53,6 +53,7 @@ _KNOBS = {
         "normal_attr",
         "radius_attr",
         "repair",
+        "liquid",
     ),
     "film": (
         "ior",
@@ -204,6 +205,10 @@ class Scene:
       ``[render]`` and ``[output]`` tables by its name (``ior=1.33``, ``spp=8``,
       ``width=640``, ``fov=30``, ``exposure=0.5``, ``from_=[0, 0.3, 1]`` ...; see
       samples/README.md). Lengths in scene units, thickness in nm, angles in degrees.
+    * ``liquid=``: how a thin-film SPH frame's 3D particles are drawn: "auto" (the default:
+      those present since the run's frame 0 ``<run>/0`` as water where packed into bodies,
+      those shed later, when frame 0 holds none, as droplets), "surface" (bodies by packing
+      alone) or "droplets" (every one a droplet).
 
     Building releases the GIL; missing normals and radii are estimated here.
     """

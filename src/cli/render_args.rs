@@ -103,6 +103,12 @@ pub struct RenderArgs {
     /// curvature (faster set-up; curved films then show faceted reflections).
     #[arg(long)]
     pub(super) flat_splats: bool,
+    /// How 3D particles are drawn: auto (the default: if the run's frame 0, <run>/0, holds no
+    /// 3D particles, they were shed later and stay droplets; otherwise as surface), surface
+    /// (particles packed into bodies of liquid, e.g. drops falling onto a film, as a refracting
+    /// water surface; the rest droplets) or droplets (every 3D particle a droplet).
+    #[arg(long)]
+    pub(super) liquid: Option<String>,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
     #[arg(long)]
     pub(super) env: Option<String>,

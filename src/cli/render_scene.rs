@@ -69,6 +69,7 @@ fn film_flags(d: &mut SceneDesc, a: &RenderArgs) {
     over(&mut f.radius_scale, &a.radius_scale);
     let off = |flag: bool| flag.then_some(false);
     over(&mut i.repair, &a.repair.then_some(true));
+    over(&mut i.liquid, &a.liquid);
     over(&mut f.fit_radii, &off(a.raw_radii));
     over(&mut f.curvature, &off(a.flat_splats));
     over(&mut f.blend, &off(a.no_blend));

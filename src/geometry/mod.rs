@@ -14,6 +14,8 @@
 //!   * [`MeshGeometry`]: a triangle mesh drawn as a film (for comparisons with meshed renders);
 //!   * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced
 //!     directly.
+//! * [`LiquidSurface`]: bulk liquid (3D particles packed into bodies) as the implicit surface
+//!   of the particles, ray traced directly (the integrator refracts through it like a droplet).
 //! * [`LayerBlend`]: parameters of the disk-layer blending.
 //! * [`shape`]: the shape library of props and area lights (plane, rectangle, disk, sphere, box,
 //!   cylinder, torus, mesh): intersection and light sampling.
@@ -28,6 +30,7 @@ mod disks;
 mod droplets;
 mod film;
 mod hit;
+mod liquid;
 pub mod mesh;
 mod mls;
 mod particles;
@@ -51,6 +54,7 @@ pub use disks::DiskGeometry;
 pub use droplets::{DropletHit, Droplets, GrownHit, WATER_IOR};
 pub use film::FilmGeometry;
 pub use hit::SurfaceHit;
+pub use liquid::{KERNEL_SPACINGS, LiquidHit, LiquidPoint, LiquidSurface, VOLUME_RADIUS};
 pub use mesh::{MeshGeometry, MeshSides};
 pub use mls::{MlsParams, MlsPoint, MlsSurface};
 pub use shape::{Mesh, Shape, ShapeHit, ShapeSample, frame};

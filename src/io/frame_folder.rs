@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::columns::{Aliases, Columns};
-use super::sim_arrays::decode_floats;
+use super::sim_arrays::{decode_floats, float_count};
 use super::{AttributeRole, CloudPart, PartKind, StoredAttribute};
 use super::{FRAME_NORMAL_ALIASES, FRAME_THICKNESS_ALIASES, RADIUS_ALIASES, ReadOptions};
 use super::{format_error, read_file};
@@ -295,6 +295,37 @@ pub(crate) const NO_ROLES: Aliases = Aliases {
     radius: &[],
     default_scale_to_nm: 1e9,
 };
+
+/// The run's first frame folder for the frame folder `dir` (`<run>/<N>` → `<run>/0`, `dir`
+/// itself for frame 0), whether or not it exists; `None` if `dir` has no parent. Plain data:
+/// what it means for rendering is the pipeline's decision.
+pub fn run_first_frame(dir: &Path) -> Option<PathBuf> {
+    dir.parent().map(|p| p.join("0"))
+}
+
+/// How many 3D particles (droplets) the frame folder `dir`'s `tracker_points_3d` holds (0
+/// without the file), from its 4-byte header and its size alone, with the checks of the full
+/// read.
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be opened or read; [`Error::Format`] naming it if the
+/// header and size disagree (as the full read).
+pub fn droplet_count(dir: &Path) -> Result<usize> {
+    use std::io::Read;
+    let tp = dir.join("tracker_points_3d");
+    if !tp.is_file() {
+        return Ok(0);
+    }
+    let mut f = std::fs::File::open(&tp).map_err(|e| Error::io(&tp, e))?;
+    let size = f.metadata().map_err(|e| Error::io(&tp, e))?.len();
+    let mut head = [0u8; 4];
+    if size < 4 {
+        let m = format!("{size} bytes: shorter than its 4-byte count");
+        return Err(format_error(&tp, FORMAT, m));
+    }
+    f.read_exact(&mut head).map_err(|e| Error::io(&tp, e))?;
+    float_count(head, size - 4, 4).map_err(|m| format_error(&tp, FORMAT, m))
+}
 
 /// Decodes one `*_bin` file's content already in memory: returns (components per particle,
 /// 1 or 3; the values as f32). `path` only names the file in errors. Never panics.

@@ -125,6 +125,31 @@ pub fn decode_elements(bytes: &[u8], expect: Option<usize>) -> Result<SimArray, 
     }
 }
 
+/// The number of elements of `per` floats a float-layout file holds, from its 4-byte header
+/// `head` and the byte length of the rest, `body_bytes`: the checks of [`decode_floats`]
+/// without the body (so a header alone can be checked).
+///
+/// # Errors
+/// As [`decode_floats`].
+pub fn float_count(head: [u8; 4], body_bytes: u64, per: usize) -> Result<usize, String> {
+    let m = i32::from_le_bytes(head);
+    let Ok(m) = usize::try_from(m) else {
+        return Err(format!("negative float count {m}"));
+    };
+    if body_bytes != 4 * m as u64 {
+        return Err(format!(
+            "float count {m} needs {} bytes after the count, the file has {body_bytes}",
+            4 * m as u64,
+        ));
+    }
+    if m % per != 0 {
+        return Err(format!(
+            "float count {m} is not a multiple of {per} floats an element"
+        ));
+    }
+    Ok(m / per)
+}
+
 /// Decodes a float-layout file (`i32` m floats, then m `f32`) into elements of `per` floats
 /// (4 for points, 8 for segments and circles).
 ///
@@ -138,22 +163,7 @@ pub fn decode_floats(bytes: &[u8], per: usize) -> Result<SimArray, String> {
             bytes.len()
         ));
     };
-    let m = i32::from_le_bytes(*head);
-    let Ok(m) = usize::try_from(m) else {
-        return Err(format!("negative float count {m}"));
-    };
-    if body.len() != 4 * m {
-        return Err(format!(
-            "float count {m} needs {} bytes after the count, the file has {}",
-            4 * m as u64,
-            body.len()
-        ));
-    }
-    if m % per != 0 {
-        return Err(format!(
-            "float count {m} is not a multiple of {per} floats an element"
-        ));
-    }
+    let m = float_count(*head, body.len() as u64, per)? * per;
     Ok(SimArray {
         len: m / per,
         components: per,

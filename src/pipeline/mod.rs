@@ -15,6 +15,8 @@ pub mod compare;
 pub mod config;
 mod droplets;
 pub mod framing;
+mod liquid;
+mod liquid_origin;
 mod load;
 pub mod memory;
 mod output;
@@ -30,6 +32,7 @@ mod visibility;
 pub use config::RenderConfig;
 pub use droplets::{EARLIER_FRAMES, read_input_parts, size_droplets};
 pub use framing::camera;
+pub use liquid::LiquidMode;
 pub use load::{
     check_sample_params, load_cloud, load_parts, thickness_unit_factor, thickness_unit_hint,
 };
@@ -81,6 +84,7 @@ pub fn prepare_staged(
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
+    let liquid = loaded.liquid;
     let radii = films.radii(&config.film);
     let attribute = config
         .attribute
@@ -97,7 +101,10 @@ pub fn prepare_staged(
     ));
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
-    let bounds = geometry.bounds().union(&droplets.bounds());
+    let bounds = geometry
+        .bounds()
+        .union(&droplets.bounds())
+        .union(&liquid.bounds());
     let tol = Tolerances::of(bounds, config.film.primitive, &radii);
     let framing = build::framing(&geometry, &films.cloud, &radii, &drops, bounds);
     let (width, height) = (config.settings.width, config.settings.height);
@@ -110,6 +117,7 @@ pub fn prepare_staged(
     // Droplets smaller than a pixel show their share of it (see render's camera ray).
     droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
     staging.droplets = droplets;
+    staging.liquid = liquid;
     let shader = FilmShader::new(
         config.film.ior,
         config.shading,
@@ -152,6 +160,7 @@ struct Loaded {
     films: load::Films,
     drops: Vec<PointCloud>,
     droplets: crate::geometry::Droplets,
+    liquid: crate::geometry::LiquidSurface,
     load_time: std::time::Duration,
     estimate_time: std::time::Duration,
 }
@@ -176,6 +185,11 @@ fn load(
         |p| format!("reading {}", p.display()),
     );
     let stage = progress.start(&what);
+    // The inputs the droplet parts came from (none for a cloud given in memory).
+    let inputs: Vec<_> = match cloud {
+        Some(_) => Vec::new(),
+        None => desc.input.paths().iter().map(|p| base.join(p)).collect(),
+    };
     let parts = match cloud {
         // A cloud given in memory (the Python API) replaces what `[input]` would load.
         Some(c) => vec![CloudPart::film("the given cloud".into(), c, Vec::new())],
@@ -186,8 +200,9 @@ fn load(
     let stage = progress.start("estimating what the particles lack, fitting radii");
     let repairing = desc.input.repair == Some(true);
     let (films, drops) = load::split(parts, repairing, notes)?;
-    let droplets = build::droplets(&drops)?;
-    if films.is_empty() && droplets.is_empty() {
+    let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, &inputs, notes)?;
+    let droplets = build::droplets(&kept)?;
+    if films.is_empty() && droplets.is_empty() && liquid.is_empty() {
         return Err(load::nothing_loaded(desc, base));
     }
     let unit_named = desc.film.thickness_unit.is_some() || desc.film.thickness_scale.is_some();
@@ -200,6 +215,7 @@ fn load(
         films,
         drops,
         droplets,
+        liquid,
         load_time,
         estimate_time,
     })

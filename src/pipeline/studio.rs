@@ -51,6 +51,7 @@ pub fn staging(desc: &SceneDesc, base: &Path, centre: Vec3, eps: f32) -> Result<
         lights,
         props: Props::new(props, eps),
         droplets: Default::default(),
+        liquid: Default::default(),
     })
 }
 

@@ -12,6 +12,7 @@ pub mod eigen;
 pub mod estimate;
 pub mod gaps;
 pub mod knn;
+pub mod liquid;
 pub mod mesh;
 pub mod orient;
 pub mod stats;

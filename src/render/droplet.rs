@@ -17,14 +17,14 @@ const MAX_INNER: u32 = 8;
 
 /// Mirror of `d` about the unit normal `n`.
 #[inline]
-fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+pub(super) fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     (d - 2.0 * d.dot(n) * n).normalize()
 }
 
 /// Refraction of unit `d` through a surface of unit normal `n` facing it (d·n < 0), from index
 /// `n1` into `n2`; `None` under total internal reflection.
 #[inline]
-fn refract(d: Vec3, n: Vec3, n1: f32, n2: f32) -> Option<Vec3> {
+pub(super) fn refract(d: Vec3, n: Vec3, n1: f32, n2: f32) -> Option<Vec3> {
     let cos_i = -d.dot(n);
     let cos_t = refracted_cos(cos_i, n1, n2)?;
     let eta = n1 / n2;

@@ -7,6 +7,7 @@ pub mod env_sampling;
 pub mod environment;
 pub mod integrator;
 pub mod lights;
+mod liquid;
 pub mod material;
 pub mod presets;
 mod primary;

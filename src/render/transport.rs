@@ -172,6 +172,14 @@ impl<'a> Tracer<'a> {
         if let Some(d) = &droplet {
             t_max = d.t;
         }
+        let liquid = if staging.liquid.is_empty() {
+            None
+        } else {
+            staging.liquid.intersect(ray, t_min, t_max)
+        };
+        if let Some(h) = &liquid {
+            t_max = h.t;
+        }
         let prop = if staging.props.is_empty() {
             None
         } else {
@@ -188,6 +196,10 @@ impl<'a> Tracer<'a> {
         if let Some(p) = prop {
             let c = self.shade_prop(l, ray, &p, depth, self.settings.prop_bounces, st);
             return (c, None);
+        }
+        if let Some(h) = liquid {
+            let c = self.shade_liquid(l, ray, &h, depth, weight, st);
+            return (c, Some(self.liquid_first_hit(ray, &h)));
         }
         if let Some(d) = droplet {
             return (self.shade_droplet(l, ray, &d, depth, weight, st), None);

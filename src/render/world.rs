@@ -5,7 +5,7 @@ use super::camera::Camera;
 use super::environment::Environment;
 use super::lights::Light;
 use super::props::Props;
-use crate::geometry::{Droplets, FilmGeometry};
+use crate::geometry::{Droplets, FilmGeometry, LiquidSurface};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
 
@@ -37,6 +37,9 @@ pub struct Staging {
     pub props: Props,
     /// Water droplets (the bulk fluid a rupturing film sheds): clear refracting spheres.
     pub droplets: Droplets,
+    /// Bulk liquid (3D particles packed into bodies): a refracting body of water bounded by
+    /// the particles' implicit surface.
+    pub liquid: LiquidSurface,
 }
 
 /// Most camera samples per pixel, whichever way they are asked for (CLI flag, scene file,

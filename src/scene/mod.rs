@@ -145,6 +145,9 @@ pub struct InputDesc {
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii, instead of refusing the file (default false).
     pub repair: Option<bool>,
+    /// How 3D particles packed into bodies of liquid are drawn: "surface" (a water surface
+    /// through them, the default) or "droplets" (every 3D particle a droplet).
+    pub liquid: Option<String>,
 }
 
 /// `[film]`: optics and splat geometry.
