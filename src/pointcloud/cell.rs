@@ -85,19 +85,27 @@ pub fn clip_to_hull(cell: &[Vec2], hull: &[Vec2]) -> Vec<Vec2> {
 }
 
 /// Distance from the origin to the boundary of the convex polygon `hull` (counter-clockwise,
-/// containing the origin): 0 when the origin is on it.
-pub fn depth_in_hull(hull: &[Vec2]) -> f32 {
+/// containing the origin; 0 when the origin is on it), and the length of the edge nearest to
+/// the origin (the shorter of two at the same distance).
+pub fn depth_in_hull(hull: &[Vec2]) -> (f32, f32) {
     (0..hull.len())
         .map(|k| {
             let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
             let len = (b - a).length();
-            if len > 0.0 {
+            let d = if len > 0.0 {
                 ((b - a).perp_dot(-a) / len).max(0.0)
             } else {
                 0.0
+            };
+            (d, len)
+        })
+        .fold((f32::INFINITY, 0.0), |best, e| {
+            if e.0 < best.0 || (e.0 == best.0 && e.1 < best.1) {
+                e
+            } else {
+                best
             }
         })
-        .fold(f32::INFINITY, f32::min)
 }
 
 #[cfg(test)]
@@ -133,7 +141,7 @@ mod tests {
             Vec2::new(-1.0, 1.0),
         ];
         let hull = hull_with_origin(&near);
-        assert_eq!(depth_in_hull(&hull), 0.0, "{hull:?}");
+        assert_eq!(depth_in_hull(&hull), (0.0, 1.0), "{hull:?}");
         let cell = clip_to_hull(&voronoi_cell(&near, 10.0), &hull);
         let low = cell.iter().map(|c| c.y).fold(f32::INFINITY, f32::min);
         let far = cell.iter().map(|c| c.length()).fold(0.0, f32::max);

@@ -342,8 +342,13 @@ fn fan(
             bounded: false,
         };
     }
-    let (near, nearest) =
-        sheet_neighbours(p, nrm, positions, normals, OPEN_FRACTION * longest, row);
+    // Where the film thins, its particles spread: the reach of a neighbourhood follows the
+    // local spacing (the distance to the SPACING_RANK-th neighbour) where that is the larger.
+    let row: Vec<(u32, f32)> = row.collect();
+    let local = row.get(SPACING_RANK - 1).map_or(0.0, |r| LONG_EDGE * r.1);
+    let longest = longest.max(local);
+    let open = OPEN_FRACTION * longest;
+    let (near, nearest) = sheet_neighbours(p, nrm, positions, normals, open, &mut row.into_iter());
     if near.len() < 2 {
         return Fit::Isolated(nearest);
     }
@@ -361,9 +366,10 @@ fn fan(
             bounded: true,
         };
     }
-    let depth = depth_in_hull(&hull);
+    let (depth, row) = depth_in_hull(&hull);
     // On the hull, i reaches half the shorter of the hull's edges beside it, past the last
-    // row; the film between two edge particles is closed by the particle one row in.
+    // row; the film between two edge particles is closed by the particle one row in. Inside,
+    // i reaches at most half a spacing of that row (or its own) past the nearest hull edge.
     let reach = match hull.iter().position(|h| *h == Vec2::ZERO) {
         Some(k) if depth == 0.0 => {
             let (a, b) = (
@@ -372,7 +378,7 @@ fn fan(
             );
             EDGE_REACH * a.length().min(b.length())
         }
-        _ => reach,
+        _ => reach.min(EDGE_REACH * row),
     };
     let cell = voronoi_cell(&near, longest);
     let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
