@@ -108,6 +108,38 @@ pub fn depth_in_hull(hull: &[Vec2]) -> (f32, f32) {
         })
 }
 
+/// The farthest midpoint of an edge of `hull` (the film's edge as i's neighbours `near` see
+/// it) that makes a Delaunay triangle with i (no neighbour inside the circle through i and the
+/// edge's ends): i is the particle one row in from that stretch of open edge, and covers the
+/// film up to its middle, which the two edge particles' disks (half an edge each) only touch.
+/// 0 when there is none.
+pub fn rim_midpoints(near: &[Vec2], hull: &[Vec2]) -> f32 {
+    let mut most = 0.0f32;
+    for k in 0..hull.len() {
+        let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
+        let det = a.perp_dot(b);
+        if a == Vec2::ZERO
+            || b == Vec2::ZERO
+            || det.abs()
+                <= 1e-6 * a.length_squared() * b.length_squared()
+                    / (a.length_squared() + b.length_squared())
+        {
+            continue;
+        }
+        // The circle through 0, a and b: c·a = |a|²/2, c·b = |b|²/2.
+        let (ha, hb) = (0.5 * a.length_squared(), 0.5 * b.length_squared());
+        let c = Vec2::new(ha * b.y - hb * a.y, hb * a.x - ha * b.x) / det;
+        let r2 = c.length_squared() * (1.0 - 1e-4);
+        if near
+            .iter()
+            .all(|q| *q == a || *q == b || (*q - c).length_squared() >= r2)
+        {
+            most = most.max((0.5 * (a + b)).length());
+        }
+    }
+    most
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,7 +173,8 @@ mod tests {
             Vec2::new(-1.0, 1.0),
         ];
         let hull = hull_with_origin(&near);
-        assert_eq!(depth_in_hull(&hull), (0.0, 1.0), "{hull:?}");
+        // On the hull's bottom edge (between its row neighbours, so not a vertex of it).
+        assert_eq!(depth_in_hull(&hull), (0.0, 2.0), "{hull:?}");
         let cell = clip_to_hull(&voronoi_cell(&near, 10.0), &hull);
         let low = cell.iter().map(|c| c.y).fold(f32::INFINITY, f32::min);
         let far = cell.iter().map(|c| c.length()).fold(0.0, f32::max);
@@ -155,8 +188,9 @@ mod tests {
         up.retain(|q| *q != Vec2::ZERO);
         up.push(Vec2::new(0.0, 1.0));
         let hull = hull_with_origin(&up);
+        let (depth, edge) = depth_in_hull(&hull);
         assert!(
-            (depth_in_hull(&hull) - 0.5f32.sqrt()).abs() < 1e-6,
+            (depth - 0.5f32.sqrt()).abs() < 1e-6 && (edge - 2f32.sqrt()).abs() < 1e-6,
             "{hull:?}"
         );
         // Collinear points have no area.

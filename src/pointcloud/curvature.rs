@@ -74,7 +74,7 @@ fn limit(
             (lo.min(v), hi.max(v))
         });
     let span = g.length() * reach;
-    if !(span > 0.0) {
+    if span.is_nan() || span <= 0.0 {
         return g;
     }
     let room = (hi - vi).min(vi - lo).max(0.0);

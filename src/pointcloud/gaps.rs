@@ -39,7 +39,10 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::cell::{clip_to_hull, depth_in_hull, hull_with_origin, voronoi_cell};
+pub use super::area::{
+    AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
+};
+use super::cell::{clip_to_hull, depth_in_hull, hull_with_origin, rim_midpoints, voronoi_cell};
 use super::estimate::median_positive;
 use super::knn::{KnnTable, PointIndex};
 
@@ -68,21 +71,6 @@ pub const EDGE_REACH: f32 = 0.5;
 
 /// Most a radius grows, as a multiple of the median radius.
 pub const MAX_GROWTH: f32 = 2.5;
-
-/// Largest radius, as a multiple of the radius of the particle's own area √(A/π) (where the
-/// simulator stores the area), that a splat keeps without a measured gap to close: the radius
-/// as read or estimated from the spacing. On a hexagonal sampling a disk must reach
-/// 1.10 × √(A/π) to cover its cell, 1.27 × with the blending margin [`GAP_MARGIN`]; on the
-/// writers' own intact films the fit's need is a median 1.4–1.6 × √(A/π) (thin-film SPH bubble
-/// frame 0, catenoid, Rayleigh–Taylor and drops-on-film frames, MELP's bubble), and the
-/// spacing-based estimate a median 1.8 ×. Twice the area's radius keeps the films closed and
-/// stops a spacing-based radius from drawing a particle far larger than its area.
-pub const AREA_OVERLAP: f32 = 2.0;
-
-/// Largest radius, as a multiple of √(A/π), a splat grows to close a gap its cell leaves
-/// between its neighbours: the fit's need reaches at most 3.8 × √(A/π) on the intact films
-/// named at [`AREA_OVERLAP`] (99.9th percentile 2.2–3.4 ×), so no film closed there opens here.
-pub const AREA_GROWTH: f32 = 4.0;
 
 /// What [`fit_radii`] changed.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -131,48 +119,6 @@ pub const WIDE_NEIGHBOURS: usize = 64;
 /// Rows of neighbours searched at a time when no table is given (12 neighbours × 8 bytes ×
 /// 64k rows ≈ 6 MiB), so no whole table is held.
 const CHUNK: usize = 1 << 16;
-
-/// The radius of the disk of each area (scene units², e.g. the simulators' `SA` in m²),
-/// √(A/π); 0 for a non-finite or negative area.
-pub fn area_radii(areas: &[f32]) -> Vec<f32> {
-    areas
-        .iter()
-        .map(|a| {
-            if a.is_finite() && *a > 0.0 {
-                (a / std::f32::consts::PI).sqrt()
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
-
-/// Names of the per-particle area attribute (scene units²) the simulators write: the thin-film
-/// SPH code's `sa_bin` (read as `sa`), MELP's `SA`.
-pub const AREA_ATTRIBUTES: &[&str] = &["sa", "SA"];
-
-/// The radius of each particle's own area ([`area_radii`] of the first of
-/// [`AREA_ATTRIBUTES`] the cloud holds); empty when it holds none.
-pub fn own_radii(cloud: &super::PointCloud) -> Vec<f32> {
-    AREA_ATTRIBUTES
-        .iter()
-        .find_map(|name| cloud.extra(name))
-        .map(area_radii)
-        .unwrap_or_default()
-}
-
-/// Bounds every radius by [`AREA_OVERLAP`] × its particle's area radius `own` (from
-/// [`area_radii`]; 0 means unknown and bounds nothing). Returns how many were trimmed.
-pub fn bound_by_area(radii: &mut [f32], own: &[f32]) -> usize {
-    let mut trimmed = 0;
-    for (r, o) in radii.iter_mut().zip(own) {
-        if *o > 0.0 && *r > AREA_OVERLAP * o {
-            *r = AREA_OVERLAP * o;
-            trimmed += 1;
-        }
-    }
-    trimmed
-}
 
 /// Fits `radii` in place (see the module docs); `normals` unit, one a particle. `table`: the
 /// particles' k-nearest-neighbour table if one is at hand (k ≥ 6 for a meaningful fan;
@@ -392,38 +338,6 @@ fn fan(
         edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || most < r.max(need),
     }
-}
-
-/// The farthest midpoint of an edge of `hull` (the film's edge as i's neighbours `near` see
-/// it) that makes a Delaunay triangle with i (no neighbour inside the circle through i and the
-/// edge's ends): i is the particle one row in from that stretch of open edge, and covers the
-/// film up to its middle, which the two edge particles' disks (half an edge each) only touch.
-/// 0 when there is none.
-fn rim_midpoints(near: &[Vec2], hull: &[Vec2]) -> f32 {
-    let mut most = 0.0f32;
-    for k in 0..hull.len() {
-        let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
-        let det = a.perp_dot(b);
-        if a == Vec2::ZERO
-            || b == Vec2::ZERO
-            || det.abs()
-                <= 1e-6 * a.length_squared() * b.length_squared()
-                    / (a.length_squared() + b.length_squared())
-        {
-            continue;
-        }
-        // The circle through 0, a and b: c·a = |a|²/2, c·b = |b|²/2.
-        let (ha, hb) = (0.5 * a.length_squared(), 0.5 * b.length_squared());
-        let c = Vec2::new(ha * b.y - hb * a.y, hb * a.x - ha * b.x) / det;
-        let r2 = c.length_squared() * (1.0 - 1e-4);
-        if near
-            .iter()
-            .all(|q| *q == a || *q == b || (*q - c).length_squared() >= r2)
-        {
-            most = most.max((0.5 * (a + b)).length());
-        }
-    }
-    most
 }
 
 /// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
