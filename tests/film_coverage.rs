@@ -212,7 +212,6 @@ fn the_film_the_particles_hold_has_no_pinholes_and_no_thickness_they_do_not_hold
         ("sample:catenoid", 7),
         ("thin-film-sph/catenoid/45", 1),
         ("thin-film-sph/rayleigh_taylor/100", 1),
-        ("melp/bubble/l_particles_0100.vtp", 5),
     ] {
         let p = probe(input, "disk", stride);
         eprintln!("{input}: {p:?}");
