@@ -90,6 +90,7 @@ fn main() {
                     &cloud.positions,
                     &normals,
                     &thickness,
+                    &radii,
                     12,
                 ));
             }),

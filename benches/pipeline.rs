@@ -99,6 +99,7 @@ fn main() {
                 &cloud.positions,
                 normals,
                 cloud.thickness_nm.as_ref().unwrap(),
+                cloud.radius.as_deref().unwrap_or_default(),
                 &table,
             );
             geometry.set_thickness_gradient(&grad).unwrap();

@@ -97,7 +97,7 @@ pub(super) fn film_geometry(
     // The detail first: the neighbour table (96 B a particle) is dropped here, used or not,
     // before any tree's build allocates, so the two never add up at the peak.
     let detail = (film.primitive == Primitive::Disk && film.first_order_detail)
-        .then(|| detail(&cloud.positions, normals, thickness, neighbours));
+        .then(|| detail(&cloud.positions, normals, thickness, radii, neighbours));
     if film.primitive == Primitive::Mls {
         return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
     }
@@ -115,7 +115,8 @@ pub(super) fn film_geometry(
     Ok(splats)
 }
 
-/// First-order splats: normals tilt with the curvature, thickness follows its gradient. Reuses
+/// First-order splats: normals tilt with the curvature, thickness follows its gradient (limited
+/// so that across each disk of `radii` it stays within its neighbours' values). Reuses
 /// the estimate's neighbour table when it has enough neighbours per particle; otherwise finds
 /// the neighbours a slice at a time, so no whole table is ever held (96 bytes a particle for
 /// 12 neighbours).
@@ -123,14 +124,15 @@ fn detail(
     positions: &[Vec3],
     normals: &[Vec3],
     thickness: &[f32],
+    radii: &[f32],
     neighbours: Option<KnnTable>,
 ) -> (Vec<f32>, Vec<Vec3>) {
     match neighbours {
         Some(t) if t.k >= DETAIL_NEIGHBOURS => (
             curvature_from_table(positions, normals, &t),
-            gradient_from_table(positions, normals, thickness, &t),
+            gradient_from_table(positions, normals, thickness, radii, &t),
         ),
-        _ => first_order_detail(positions, normals, thickness, DETAIL_NEIGHBOURS),
+        _ => first_order_detail(positions, normals, thickness, radii, DETAIL_NEIGHBOURS),
     }
 }
 

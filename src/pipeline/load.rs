@@ -9,7 +9,9 @@ pub use super::sample_check::check_sample_params;
 use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
-use crate::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii_indexed};
+use crate::pointcloud::gaps::{
+    AREA_OVERLAP, FAN_NEIGHBOURS, bound_by_area, fit_radii_owned, own_radii,
+};
 use crate::pointcloud::knn::{KnnTable, PointIndex};
 use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
@@ -260,6 +262,16 @@ fn complete(
     if repairing {
         validate(&cloud).map_err(name)?;
     }
+    // No splat larger than the particle's own area allows, fitted or not.
+    let own = own_radii(&cloud);
+    if let Some(r) = cloud.radius.as_mut() {
+        let bounded = bound_by_area(r, &own);
+        if bounded > 0 {
+            notes.push(Note::new(format!(
+                "{label}: {bounded} splat radii bounded by {AREA_OVERLAP} × the radius of the particle's own area, √(SA/π)"
+            )));
+        }
+    }
     let mut table = table;
     if film.fit_radii
         && let Some(r) = cloud.radius.as_mut()
@@ -278,7 +290,7 @@ fn complete(
         }
         let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
         let normals = cloud.normals.as_deref().unwrap_or_default();
-        let fit = fit_radii_indexed(&index, &cloud.positions, normals, r, t);
+        let fit = fit_radii_owned(&index, &cloud.positions, normals, r, t, &own);
         notes.push(Note::new(format!("{label}: {fit}")));
     }
     Ok((cloud, table, had_radius))

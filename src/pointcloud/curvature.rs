@@ -29,16 +29,56 @@ pub fn curvature_from_table(positions: &[Vec3], normals: &[Vec3], table: &KnnTab
 /// instead of a constant reproduce linear fields exactly when blended, where a weighted mean
 /// of constants (Shepard interpolation) leaves bumps at every splat centre — visible as a fine
 /// texture wherever colour changes fast with thickness. Degenerate neighbourhoods get 0.
+///
+/// `radii` (scene units, one a particle; empty for none) limits each gradient so that across
+/// its splat, within `radii[i]` of the particle, `a_i + g·(p − c_i)` stays inside the range of
+/// the values of i and its neighbours (the slope limiter of Barth & Jespersen 1989): the
+/// detail interpolates between the particles, never extrapolates past them (at an open edge,
+/// a local extremum or a jump the gradient is flattened just enough).
 pub fn gradient_from_table(
     positions: &[Vec3],
     normals: &[Vec3],
     values: &[f32],
+    radii: &[f32],
     table: &KnnTable,
 ) -> Vec<Vec3> {
     (0..positions.len())
         .into_par_iter()
-        .map(|i| gradient_at(positions, normals, values, i, table.row(i)))
+        .map(|i| {
+            let g = gradient_at(positions, normals, values, i, table.row(i));
+            limit(g, normals, values, radii.get(i), i, table.row(i))
+        })
         .collect()
+}
+
+/// `g`, the gradient of `values` at particle `i`, scaled down so that within `reach` of i the
+/// linear extension stays inside the range of i's value and its neighbours' in `row` on its
+/// sheet (normals within 60°; all of `g` when `reach` is `None`).
+fn limit(
+    g: Vec3,
+    normals: &[Vec3],
+    values: &[f32],
+    reach: Option<&f32>,
+    i: usize,
+    row: impl Iterator<Item = (u32, f32)>,
+) -> Vec3 {
+    let Some(&reach) = reach else {
+        return g;
+    };
+    let vi = values[i];
+    let ni = normals[i];
+    let (lo, hi) = row
+        .filter(|(j, _)| normals[*j as usize].dot(ni).abs() >= 0.5)
+        .fold((vi, vi), |(lo, hi), (j, _)| {
+            let v = values[j as usize];
+            (lo.min(v), hi.max(v))
+        });
+    let span = g.length() * reach;
+    if span.is_nan() || span <= 0.0 {
+        return g;
+    }
+    let room = (hi - vi).min(vi - lo).max(0.0);
+    if room >= span { g } else { g * (room / span) }
 }
 
 /// Rows of neighbour table built at a time by [`first_order_detail`]: 64k rows of k = 12 take
@@ -48,20 +88,23 @@ const DETAIL_CHUNK: usize = 1 << 16;
 /// Curvature ([`curvature_from_table`]) and gradient of `values` ([`gradient_from_table`]) of
 /// every particle over its `k` nearest neighbours, without ever holding the whole neighbour
 /// table: it is built and used a slice of particles at a time. Same results as the two table
-/// functions; peak memory is the k-d tree (~16 bytes a particle) plus the two outputs.
+/// functions (the gradient limited to `radii` as there); peak memory is the k-d tree (~16
+/// bytes a particle) plus the two outputs.
 pub fn first_order_detail(
     positions: &[Vec3],
     normals: &[Vec3],
     values: &[f32],
+    radii: &[f32],
     k: usize,
 ) -> (Vec<f32>, Vec<Vec3>) {
-    detail_in_chunks(positions, normals, values, k, DETAIL_CHUNK)
+    detail_in_chunks(positions, normals, values, radii, k, DETAIL_CHUNK)
 }
 
 fn detail_in_chunks(
     positions: &[Vec3],
     normals: &[Vec3],
     values: &[f32],
+    radii: &[f32],
     k: usize,
     chunk: usize,
 ) -> (Vec<f32>, Vec<Vec3>) {
@@ -76,10 +119,10 @@ fn detail_in_chunks(
                 .into_par_iter()
                 .map(|i| curvature_at(positions, normals, i, table.row(i - start))),
         );
-        gradient.par_extend(
-            rows.into_par_iter()
-                .map(|i| gradient_at(positions, normals, values, i, table.row(i - start))),
-        );
+        gradient.par_extend(rows.into_par_iter().map(|i| {
+            let g = gradient_at(positions, normals, values, i, table.row(i - start));
+            limit(g, normals, values, radii.get(i), i, table.row(i - start))
+        }));
     }
     (curvature, gradient)
 }
@@ -183,10 +226,10 @@ mod tests {
         let table = KnnTable::build(&p, 12);
         let want = (
             curvature_from_table(&p, &n, &table),
-            gradient_from_table(&p, &n, &h, &table),
+            gradient_from_table(&p, &n, &h, &[], &table),
         );
         for chunk in [700, 5000, DETAIL_CHUNK] {
-            let got = detail_in_chunks(&p, &n, &h, 12, chunk);
+            let got = detail_in_chunks(&p, &n, &h, &[], 12, chunk);
             assert_eq!(got, want, "chunk {chunk}");
         }
         assert!(want.0.iter().all(|k| (k - 1.0 / 1.5).abs() < 0.02));
@@ -228,16 +271,51 @@ mod tests {
         let plane = plane_grid(0.013);
         let a: Vec<f32> = plane.iter().map(|q| 3.0 * q.x - 2.0 * q.z).collect();
         let table = KnnTable::build(&plane, 8);
-        for g in gradient_from_table(&plane, &vec![Vec3::Y; 900], &a, &table) {
+        for g in gradient_from_table(&plane, &vec![Vec3::Y; 900], &a, &[], &table) {
             assert!((g - Vec3::new(3.0, 0.0, -2.0)).length() < 1e-3, "{g}");
         }
         // On a sphere, a = y: the tangential gradient is e_y minus its normal part.
         let a: Vec<f32> = p.iter().map(|q| q.y).collect();
         let table = KnnTable::build(&p, 12);
-        let g = gradient_from_table(&p, &n, &a, &table);
+        let g = gradient_from_table(&p, &n, &a, &[], &table);
         for (gi, ni) in g.iter().zip(&n) {
             let want = Vec3::Y - ni.y * *ni;
             assert!((*gi - want).length() < 0.05, "{gi} vs {want}");
+        }
+    }
+
+    #[test]
+    fn limited_gradients_stay_within_the_neighbours_values() {
+        // A linear field on a plane grid: inside, the limited gradient is the exact one; at
+        // the grid's edges, where a disk of radius 0.6 spacings extrapolates past the last
+        // row, it is flattened so no disk shows a value the particles do not hold.
+        let plane = plane_grid(0.0);
+        let a: Vec<f32> = plane.iter().map(|q| 100.0 + 300.0 * q.x).collect();
+        let table = KnnTable::build(&plane, 12);
+        let normals = vec![Vec3::Y; 900];
+        let radii = vec![0.06; 900];
+        let free = gradient_from_table(&plane, &normals, &a, &[], &table);
+        let held = gradient_from_table(&plane, &normals, &a, &radii, &table);
+        let (lo, hi) = (100.0, 100.0 + 300.0 * 2.9);
+        let reach = |g: &[Vec3]| {
+            g.iter()
+                .zip(&a)
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), (g, v)| {
+                    let s = g.length() * 0.06;
+                    (l.min(v - s), h.max(v + s))
+                })
+        };
+        let (l, h) = reach(&free);
+        assert!(l < lo - 10.0 && h > hi + 10.0, "unlimited: {l}..{h}");
+        let (l, h) = reach(&held);
+        assert!(l >= lo - 1e-3 && h <= hi + 1e-3, "limited: {l}..{h}");
+        let inside = (0..900).filter(|i| (2..28).contains(&(i % 30)));
+        for i in inside {
+            assert!(
+                (held[i] - Vec3::new(300.0, 0.0, 0.0)).length() < 1e-2,
+                "{}",
+                held[i]
+            );
         }
     }
 

@@ -5,6 +5,8 @@
 
 use glam::Vec3;
 
+pub mod area;
+pub mod cell;
 pub mod curvature;
 pub mod dedupe;
 pub mod droplet_size;
