@@ -13,6 +13,7 @@
 mod build;
 pub mod compare;
 pub mod config;
+mod foam;
 pub mod framing;
 mod load;
 pub mod memory;
@@ -151,7 +152,8 @@ fn load(
     };
     let load_time = t0.elapsed();
     let t1 = Instant::now();
-    let (films, drops) = load::split(parts, notes);
+    let (mut films, drops) = load::split(parts, notes);
+    foam::merge_walls(&mut films, notes);
     let droplets = build::droplets(&drops)?;
     if films.is_empty() && droplets.is_empty() {
         return Err(load::nothing_loaded(desc, base));
