@@ -129,3 +129,58 @@ fn a_shared_wall_blends_as_many_splats_as_a_single_film() {
     let (w, o) = (med(&wall), med(&outer));
     assert!(w <= 1.5 * o, "wall {w} splats, single film {o}");
 }
+
+#[test]
+fn a_melp_frames_eulerian_and_lagrangian_files_together_draw_one_set() {
+    let (e, l) = (
+        data("melp/bubble/e_particles_0100.vtp"),
+        data("melp/bubble/l_particles_0100.vtp"),
+    );
+    let out = tmp("melp-sets.png");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            &e,
+            &l,
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "32x24",
+            "--preset",
+            "preview",
+        ];
+        args.extend_from_slice(extra);
+        filmsplat(&args)
+    };
+    let (code, said, err) = run(&[]);
+    assert_eq!(code, 0, "{err}");
+    let note = |s: &str| {
+        s.lines()
+            .filter(|l| l.contains("Eulerian (e_) and Lagrangian (l_)"))
+            .count()
+    };
+    assert_eq!(note(&said), 1, "{said}");
+    assert!(said.contains("19995 particles"), "{said}");
+    let (_, said, _) = run(&["--melp-set", "eulerian"]);
+    assert!(
+        said.contains("1199 particles") && note(&said) == 1,
+        "{said}"
+    );
+    let (_, said, _) = run(&["--melp-set", "both"]);
+    assert!(said.contains("21194 particles"), "{said}");
+    let (code, _, err) = run(&["--melp-set", "lagrange"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("lagrangian, eulerian or both"), "{err}");
+    // One set alone: no note.
+    let (_, said, _) = filmsplat(&[
+        "render",
+        &l,
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "32x24",
+        "--preset",
+        "preview",
+    ]);
+    assert_eq!(note(&said), 0, "{said}");
+}

@@ -91,9 +91,15 @@ pub fn load_parts(desc: &SceneDesc, base: &Path) -> Result<Vec<CloudPart>> {
         )]);
     }
     let opts = read_options(desc)?;
+    let set = super::melp_sets::MelpSet::parse(input.melp_set.as_deref())?;
+    let paths: Vec<_> = paths.into_iter().cloned().collect();
+    let (paths, note) = super::melp_sets::choose(&paths, set);
     let mut parts = Vec::new();
     for p in paths {
         parts.extend(read_parts(&base.join(p), &opts)?);
+    }
+    if let (Some(note), Some(first)) = (note, parts.first_mut()) {
+        first.notes.push(note);
     }
     Ok(parts)
 }

@@ -16,6 +16,7 @@ pub mod config;
 mod foam;
 pub mod framing;
 mod load;
+mod melp_sets;
 pub mod memory;
 mod output;
 mod prepared;

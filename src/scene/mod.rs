@@ -145,6 +145,9 @@ pub struct InputDesc {
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii, instead of refusing the file (default false).
     pub repair: Option<bool>,
+    /// Which set of a MELP frame is drawn when its Eulerian (`e_`) and Lagrangian (`l_`) files
+    /// are both given: "lagrangian" (default), "eulerian" or "both".
+    pub melp_set: Option<String>,
 }
 
 /// `[film]`: optics and splat geometry.
