@@ -85,6 +85,10 @@ pub struct RenderArgs {
     /// Name of the radius attribute.
     #[arg(long)]
     pub(super) radius_attr: Option<String>,
+    /// Which set of a MELP frame to draw when its Eulerian (e_) and Lagrangian (l_) files are
+    /// both given: lagrangian (the default: they carry the film), eulerian or both.
+    #[arg(long)]
+    pub(super) melp_set: Option<String>,
     /// Thickness in nm for clouds without one (default 500).
     #[arg(long, value_parser = super::parse::finite_f32)]
     pub(super) default_thickness: Option<f32>,

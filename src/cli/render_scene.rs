@@ -65,6 +65,7 @@ fn film_flags(d: &mut SceneDesc, a: &RenderArgs) {
     over(&mut i.thickness_attr, &a.thickness_attr);
     over(&mut i.normal_attr, &a.normal_attr);
     over(&mut i.radius_attr, &a.radius_attr);
+    over(&mut i.melp_set, &a.melp_set);
     over(&mut f.default_thickness_nm, &a.default_thickness);
     over(&mut f.radius_scale, &a.radius_scale);
     let off = |flag: bool| flag.then_some(false);

@@ -94,9 +94,26 @@ pub fn load_parts(desc: &SceneDesc, base: &Path) -> Result<Vec<CloudPart>> {
         )]);
     }
     let opts = read_options(desc)?;
+    let set = super::melp_sets::MelpSet::parse(input.melp_set.as_deref())?;
+    let paths: Vec<_> = paths.into_iter().cloned().collect();
+    let (paths, note) = super::melp_sets::choose(&paths, set);
+    let mut notes: Vec<String> = note.into_iter().collect();
+    let folder = paths
+        .iter()
+        .find(|p| crate::io::melp_folder::is_melp_folder(&base.join(p)));
+    if let (Some(f), false) = (folder, set == super::melp_sets::MelpSet::Lagrangian) {
+        notes.push(format!(
+            "{}: a MELP foam folder is read as its Lagrangian set (input.melp_set / --melp-set \
+             chooses between e_ and l_ .vtp files)",
+            base.join(f).display()
+        ));
+    }
     let mut parts = Vec::new();
     for p in paths {
         parts.extend(read_input_parts(&base.join(p), &opts)?);
+    }
+    if let Some(first) = parts.first_mut() {
+        first.notes.extend(notes);
     }
     Ok(parts)
 }

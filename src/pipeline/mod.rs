@@ -14,10 +14,12 @@ mod build;
 pub mod compare;
 pub mod config;
 mod droplets;
+mod foam;
 pub mod framing;
 mod liquid;
 mod liquid_origin;
 mod load;
+mod melp_sets;
 pub mod memory;
 mod output;
 mod prepared;
@@ -199,7 +201,8 @@ fn load(
     let load_time = stage.finish(&format!("read {} particles", stages::thousands(n)));
     let stage = progress.start("estimating what the particles lack, fitting radii");
     let repairing = desc.input.repair == Some(true);
-    let (films, drops) = load::split(parts, repairing, notes)?;
+    let (mut films, drops) = load::split(parts, repairing, notes)?;
+    foam::merge_walls(&mut films, notes);
     let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
     if films.is_empty() && droplets.is_empty() && liquid.is_empty() {

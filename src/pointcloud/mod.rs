@@ -19,6 +19,7 @@ pub mod mesh;
 pub mod orient;
 pub mod stats;
 pub mod validate;
+pub mod walls;
 
 pub use estimate::{EstimateOptions, EstimateReport, fill_missing, fill_missing_keeping_table};
 pub use mesh::{Transfer, TriangleMesh, transfer_thickness};

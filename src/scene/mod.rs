@@ -145,9 +145,13 @@ pub struct InputDesc {
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii, instead of refusing the file (default false).
     pub repair: Option<bool>,
-    /// How 3D particles packed into bodies of liquid are drawn: "surface" (a water surface
-    /// through them, the default) or "droplets" (every 3D particle a droplet).
+    /// How 3D particles packed into bodies of liquid are drawn: "auto" (the default: where
+    /// they came from decides), "surface" (a water surface through them) or "droplets" (every
+    /// 3D particle a droplet).
     pub liquid: Option<String>,
+    /// Which set of a MELP frame is drawn when its Eulerian (`e_`) and Lagrangian (`l_`) files
+    /// are both given: "lagrangian" (default), "eulerian" or "both".
+    pub melp_set: Option<String>,
 }
 
 /// `[film]`: optics and splat geometry.

@@ -1,0 +1,321 @@
+//! Foam walls shared by two bubbles, drawn once.
+//!
+//! A foam simulator that tracks every bubble as its own closed film (MELP's foam driver,
+//! wang-mengdi/melp-thin-film `melp/ParticleALEFoam.h`, one particle set per region) stores each
+//! wall between two bubbles twice: once in each bubble's set, a few millimetres apart, facing
+//! opposite ways and each with its own thickness. The writer treats the two copies as one film
+//! seen by two bubbles: each copy carries half the wall's surface tension ("one half of it,
+//! since we are only considering the inner interface"), their velocities are averaged weighted
+//! by each copy's local area (`Update_Particle_Sharing_Momentum`, the `sa_ratio` weights) and
+//! Lagrangian particles move from the thicker copy to the thinner one
+//! (`Interchange_L_Particles`), which relaxes both towards one thickness: the area-weighted
+//! mean of the two, the value that conserves their liquid.
+//!
+//! Drawing both copies doubles the film (two layers blended into a patchwork of both
+//! thicknesses, or two MLS sheets whose opposite normals cancel). [`merge_shared_walls`] finds
+//! the particles of one set that lie on another set's sheet — within half a spacing along the
+//! normal (closer than the splats can tell apart), with parallel or opposite normals, the other
+//! sheet sampled all around them — and keeps one copy: the lower-numbered set's particles move
+//! to the middle of the two copies and take the writer's shared value of the thickness, the
+//! area-weighted mean (h_own + ρ·h_other) / (1 + ρ) with ρ = 1 (the writer's `sa_ratio`, the
+//! other copy's local area over the own, is 1 where both copies tile the wall, which is where a
+//! particle is taken as on it), h_other interpolated from the other copy; the other set's
+//! particles on that wall are removed. The rest of each bubble is left as it is.
+
+use glam::Vec3;
+
+use super::PointCloud;
+use super::knn::PointIndex;
+use super::validate::compact;
+
+/// Neighbours of the other copy searched around each particle.
+const NEIGHBOURS: usize = 12;
+/// Support radius of the interpolation, in spacings of the coarser set.
+const SUPPORT: f32 = 1.5;
+/// Copies closer than this many spacings along the normal are one wall.
+const MAX_GAP: f32 = 0.5;
+/// The other copy's local plane must pass within this many spacings of the particle sideways
+/// (else the particle lies past the other copy's edge).
+const MAX_SIDEWAYS: f32 = 1.0;
+/// |cos| between the particle's normal and the other copy's: parallel or opposite within 45°
+/// (the copies of a wall are parallel; where they meet at a Plateau border they touch at an
+/// angle before parting).
+const MIN_ALIGN: f32 = 0.7;
+/// The other copy's normals around the particle must agree this well (|Σ w n| / Σ w): one sheet,
+/// not a junction where sheets meet.
+const MIN_COHERENCE: f32 = 0.8;
+
+/// One wall found between two sets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wall {
+    /// The set whose copy is kept (moved to the middle).
+    pub kept: usize,
+    /// The set whose copy is removed.
+    pub removed: usize,
+    /// Particles of the kept copy on the wall.
+    pub kept_particles: usize,
+    /// Particles of the removed copy on the wall.
+    pub removed_particles: usize,
+    /// Median distance between the copies along the normal, scene units.
+    pub gap: f32,
+    /// Median thickness of the kept copy on the wall before merging, nm.
+    pub kept_nm: f32,
+    /// Median thickness of the other copy there, nm.
+    pub other_nm: f32,
+    /// Median merged thickness, nm.
+    pub merged_nm: f32,
+}
+
+/// What [`merge_shared_walls`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WallReport {
+    /// Every wall found, in set order.
+    pub walls: Vec<Wall>,
+}
+
+impl WallReport {
+    /// True if no wall was found.
+    pub fn is_empty(&self) -> bool {
+        self.walls.is_empty()
+    }
+}
+
+/// The other copy's sheet seen from one particle.
+#[derive(Debug, Clone, Copy)]
+struct Facing {
+    /// Signed distance to the other copy's local plane along its normal.
+    gap: f32,
+    /// The other copy's unit normal there.
+    normal: Vec3,
+    /// The other copy's interpolated thickness, nm.
+    thickness: f32,
+}
+
+/// One set prepared for queries.
+struct Set<'a> {
+    cloud: &'a PointCloud,
+    index: PointIndex,
+    /// Median nearest-neighbour distance, scene units.
+    spacing: f32,
+}
+
+impl<'a> Set<'a> {
+    fn new(cloud: &'a PointCloud) -> Self {
+        let index = PointIndex::build(&cloud.positions);
+        let mut nn: Vec<f32> = cloud
+            .positions
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| {
+                index
+                    .nearest_excluding(*p, 1, i as u32)
+                    .first()
+                    .map(|n| n.1)
+            })
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .collect();
+        let spacing = if nn.is_empty() {
+            0.0
+        } else {
+            let mid = nn.len() / 2;
+            *nn.select_nth_unstable_by(mid, f32::total_cmp).1
+        };
+        Set {
+            cloud,
+            index,
+            spacing,
+        }
+    }
+
+    /// The weighted local sheet of this set around `p` within `support`: centroid, normal sum,
+    /// thickness (nm) and the normals' agreement |Σ w n| / Σ w (`None` if no particle is within
+    /// it). Weights (1 − d²/R²)³, as the MLS surface's.
+    fn sheet(&self, p: Vec3, support: f32) -> Option<(Vec3, Vec3, f32, f32)> {
+        let normals = self.cloud.normals.as_deref()?;
+        let thickness = self.cloud.thickness_nm.as_deref()?;
+        let (mut sw, mut c, mut n, mut t) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32);
+        let mut reference: Option<Vec3> = None;
+        for (j, d) in self.index.nearest_excluding(p, NEIGHBOURS, u32::MAX) {
+            let u = 1.0 - (d / support).powi(2);
+            if u <= 0.0 {
+                continue;
+            }
+            let w = u * u * u;
+            let j = j as usize;
+            if !(thickness[j].is_finite() && self.cloud.positions[j].is_finite()) {
+                continue;
+            }
+            // Normals of one sheet may come with either sign: align them to the first.
+            let nj = normals[j].normalize_or_zero();
+            if nj == Vec3::ZERO || !nj.is_finite() {
+                continue;
+            }
+            let r = *reference.get_or_insert(nj);
+            let nj = if nj.dot(r) < 0.0 { -nj } else { nj };
+            sw += w;
+            c += w * self.cloud.positions[j];
+            n += w * nj;
+            t += w * thickness[j];
+        }
+        (sw > 0.0).then(|| (c / sw, n, t / sw, n.length() / sw))
+    }
+
+    /// The sheet of this set facing `p` (normal `np`) if `p` lies on it (within the gap and
+    /// sideways limits), and whether it is one wall with `p`'s sheet: parallel or opposite
+    /// normals, the other sheet coherent.
+    fn facing(&self, p: Vec3, np: Vec3, support: f32, spacing: f32) -> Option<(Facing, bool)> {
+        let (c, n, thickness, coherence) = self.sheet(p, support)?;
+        let normal = n.normalize_or_zero();
+        let gap = (c - p).dot(normal);
+        let sideways = ((c - p) - gap * normal).length();
+        let on = gap.abs() <= MAX_GAP * spacing && sideways <= MAX_SIDEWAYS * spacing;
+        let wall =
+            coherence >= MIN_COHERENCE && normal.dot(np.normalize_or_zero()).abs() >= MIN_ALIGN;
+        on.then_some((
+            Facing {
+                gap,
+                normal,
+                thickness,
+            },
+            wall,
+        ))
+    }
+
+    /// Which particles of this set lie on `other`'s sheet as one wall: those on it whose own
+    /// neighbours within `support` mostly pass the wall test (which fills the odd particle of a
+    /// wavy wall that fails it alone, and drops the odd one where two sheets merely cross).
+    fn on_wall(&self, other: &Set, support: f32, spacing: f32) -> Vec<Option<Facing>> {
+        let normals = self.cloud.normals.as_deref().unwrap_or_default();
+        let found: Vec<Option<(Facing, bool)>> = (0..self.cloud.len())
+            .map(|i| {
+                let p = self.cloud.positions[i];
+                other.facing(p, *normals.get(i)?, support, spacing)
+            })
+            .collect();
+        (0..self.cloud.len())
+            .map(|i| {
+                let (f, _) = found[i]?;
+                let p = self.cloud.positions[i];
+                let near = self.index.nearest_excluding(p, NEIGHBOURS, u32::MAX);
+                let (mut yes, mut all) = (0, 0);
+                for (j, d) in near.into_iter().filter(|(_, d)| *d <= support) {
+                    let _ = d;
+                    all += 1;
+                    yes += usize::from(found[j as usize].is_some_and(|(_, w)| w));
+                }
+                (2 * yes > all).then_some(f)
+            })
+            .collect()
+    }
+}
+
+/// Finds the walls that two of `sets` both hold and keeps one copy of each (see the module
+/// docs). Sets without normals or thickness are left alone. Cost: O(n log n) for the trees and
+/// O(n·k log n) per pair of sets whose bounds overlap, k = 12 neighbours.
+pub fn merge_shared_walls(sets: &mut [PointCloud]) -> WallReport {
+    let mut report = WallReport::default();
+    let usable = |c: &PointCloud| c.len() >= 2 && c.normals.is_some() && c.thickness_nm.is_some();
+    for a in 0..sets.len() {
+        for b in a + 1..sets.len() {
+            if !usable(&sets[a]) || !usable(&sets[b]) || !bounds_meet(&sets[a], &sets[b]) {
+                continue;
+            }
+            if let Some(w) = merge_pair(sets, a, b) {
+                report.walls.push(w);
+            }
+        }
+    }
+    report
+}
+
+/// True if the two sets' bounding boxes overlap.
+fn bounds_meet(a: &PointCloud, b: &PointCloud) -> bool {
+    let bounds = |c: &PointCloud| {
+        c.positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(*p), hi.max(*p))
+            })
+    };
+    let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
+    alo.cmple(bhi).all() && blo.cmple(ahi).all()
+}
+
+/// Merges the wall of sets `a` (kept) and `b` (removed), if they share one.
+fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
+    let (moves, drop) = {
+        let (sa, sb) = (Set::new(&sets[a]), Set::new(&sets[b]));
+        let spacing = sa.spacing.max(sb.spacing);
+        if spacing <= 0.0 {
+            return None;
+        }
+        let support = SUPPORT * spacing;
+        let moves: Vec<(usize, Facing)> = sa
+            .on_wall(&sb, support, spacing)
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, f)| f.map(|f| (i, f)))
+            .collect();
+        let drop: Vec<bool> = sb
+            .on_wall(&sa, support, spacing)
+            .iter()
+            .map(Option::is_some)
+            .collect();
+        (moves, drop)
+    };
+    let removed = drop.iter().filter(|d| **d).count();
+    if moves.is_empty() || removed == 0 {
+        return None;
+    }
+    let mut gaps = Vec::with_capacity(moves.len());
+    let (mut kept_nm, mut other_nm, mut merged_nm) = (Vec::new(), Vec::new(), Vec::new());
+    let cloud = &mut sets[a];
+    for (i, f) in &moves {
+        let t = cloud.thickness_nm.as_mut()?;
+        let merged = 0.5 * (t[*i] + f.thickness);
+        kept_nm.push(t[*i]);
+        other_nm.push(f.thickness);
+        merged_nm.push(merged);
+        t[*i] = merged;
+        cloud.positions[*i] += 0.5 * f.gap * f.normal;
+        gaps.push(f.gap.abs());
+    }
+    remove(&mut sets[b], &drop);
+    Some(Wall {
+        kept: a,
+        removed: b,
+        kept_particles: moves.len(),
+        removed_particles: removed,
+        gap: median(&mut gaps),
+        kept_nm: median(&mut kept_nm),
+        other_nm: median(&mut other_nm),
+        merged_nm: median(&mut merged_nm),
+    })
+}
+
+/// Removes the particles flagged in `drop`, with all their attributes.
+fn remove(cloud: &mut PointCloud, drop: &[bool]) {
+    let keep: Vec<bool> = drop.iter().map(|d| !d).collect();
+    compact(&mut cloud.positions, &keep);
+    if let Some(v) = cloud.normals.as_mut() {
+        compact(v, &keep);
+    }
+    for v in [&mut cloud.thickness_nm, &mut cloud.radius]
+        .into_iter()
+        .flatten()
+    {
+        compact(v, &keep);
+    }
+    for (_, v) in &mut cloud.extra {
+        compact(v, &keep);
+    }
+}
+
+/// The median of `v` (0 if empty).
+fn median(v: &mut [f32]) -> f32 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let mid = v.len() / 2;
+    *v.select_nth_unstable_by(mid, f32::total_cmp).1
+}
