@@ -284,8 +284,8 @@ fn an_interrupted_sequence_leaves_whole_frames_and_resume_finishes_it() {
         .count();
     assert!(finished > 0);
     assert_eq!(
-        out.matches("skipped").count(),
+        err.matches("skipped").count(),
         finished,
-        "{images:?}\n{out}"
+        "{images:?}\n{err}"
     );
 }

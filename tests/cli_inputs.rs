@@ -68,13 +68,14 @@ fn a_scene_file_lists_its_clouds() {
     )
     .unwrap();
     let out = d.join("s.png");
-    let (code, said, err) = filmsplat(&[
+    let (code, data, said) = filmsplat(&[
         "render",
         scene.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(code, 0, "{said}");
+    assert!(data.is_empty(), "{data}");
     // Three bubbles and the shell (one duplicate position drawn once); the bubbles' three
     // shared walls are drawn once (225 + 360 + 317 particles of their second copies removed).
     assert!(said.contains("foam: 3 walls shared"), "{said}");
@@ -116,8 +117,9 @@ fn attribute_views_colour_by_any_stored_attribute() {
         a.extend_from_slice(extra);
         filmsplat(&a)
     };
-    let (code, said, err) = run("attribute:v", &[]);
-    assert_eq!(code, 0, "{err}");
+    let (code, data, said) = run("attribute:v", &[]);
+    assert_eq!(code, 0, "{said}");
+    assert!(data.is_empty(), "{data}");
     assert!(said.contains("attribute view"), "{said}");
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (96, 64));

@@ -48,7 +48,7 @@ pub use visibility::colour_visibility_of;
 use crate::Result;
 use crate::io::CloudPart;
 use crate::pointcloud::PointCloud;
-use crate::render::{FilmShader, RenderOutput, RenderSettings, Scene};
+use crate::render::{FilmShader, RenderOutput, RenderSettings, Scene, Studio};
 use crate::scene::SceneDesc;
 use build::Tolerances;
 use std::path::Path;
@@ -112,7 +112,9 @@ pub fn prepare_staged(
     let (width, height) = (config.settings.width, config.settings.height);
     let aspect = scene_aspect(config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
-    let environment = build::environment(&config.environment, camera.forward())?;
+    // The studio stays where the default camera's photographer set it (not turned with this
+    // camera), so the viewer's orbits and the same camera given as scene lines light alike.
+    let environment = build::environment(&config.environment, Studio::default().view)?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     let mut droplets = droplets;

@@ -116,9 +116,10 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 /// reflects every direction, a flat film viewed from above the dome over it. Two soft boxes
 /// add highlights that show the shape.
 ///
-/// The dark ground faces the camera: directions within [`Studio::GROUND_CONE`] of `view`
-/// (the camera's viewing direction), and, in the azimuths around it, every direction below
-/// [`Studio::GROUND_ABOVE_VIEW`] over the view's elevation (the floor and backdrop wall).
+/// The dark ground faces `view` (the default auto-framed camera's viewing direction; the
+/// pipeline keeps it for every camera): directions within [`Studio::GROUND_CONE`] of it,
+/// and, in the azimuths around it, every direction below [`Studio::GROUND_ABOVE_VIEW`] over
+/// the view's elevation (the floor and backdrop wall).
 #[derive(Debug, Clone)]
 pub struct Studio {
     /// Dark ground radiance straight down, at the horizon and straight up.
