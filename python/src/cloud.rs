@@ -140,8 +140,7 @@ impl Cloud {
 /// (`filmsplat::budget`), before anything is copied. `what` starts the message.
 pub fn check_particles(n: usize, what: &str) -> PyResult<()> {
     let estimate = MemoryEstimate::new(n as u64, 0, 0, false, 0);
-    filmsplat::budget::check(estimate.total(), || format!("{what}: {n} particles"))
-        .map_err(invalid)
+    filmsplat::budget::check(estimate.total(), || format!("{what}: {n} particles")).map_err(invalid)
 }
 
 /// Reads a particle file or frame folder (every format the CLI reads) into a `Cloud`, with

@@ -71,11 +71,18 @@ fn merge(clouds: &[PyRef<'_, Cloud>]) -> PyResult<PointCloud> {
 /// of the scene's inputs as their headers say, and the image) exceeds the allowance, before
 /// the clouds are merged or anything is read. An input the estimate cannot read is left to
 /// the reader, which names the problem better.
-fn check_memory(desc: &SceneDesc, base: &Path, clouds: Option<&[PyRef<'_, Cloud>]>) -> PyResult<()> {
+fn check_memory(
+    desc: &SceneDesc,
+    base: &Path,
+    clouds: Option<&[PyRef<'_, Cloud>]>,
+) -> PyResult<()> {
     let estimate = match clouds {
         Some(c) => {
             let n: usize = c.iter().map(|c| c.cloud.len()).sum();
-            let (w, h) = (desc.render.width.unwrap_or(960), desc.render.height.unwrap_or(540));
+            let (w, h) = (
+                desc.render.width.unwrap_or(960),
+                desc.render.height.unwrap_or(540),
+            );
             MemoryEstimate::new(n as u64, w, h, false, 0)
         }
         None => match estimate_scene(desc, base, false) {

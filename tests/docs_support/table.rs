@@ -47,6 +47,19 @@ pub const TABLE: &[(&str, How)] = &[
         "cargo install --path .",
         NotRun("a second full build into ~/.cargo/bin; checked by hand from a clean clone"),
     ),
+    (
+        "filmsplat convert tests/data/thin-film-sph/bursting_bubble/60 -o f60.ply",
+        AsIs,
+    ),
+    // formats-and-simulators: droplets and bulk liquid
+    (
+        "filmsplat render tests/data/thin-film-sph/drops_on_film/105 -o drops.png",
+        Small,
+    ),
+    (
+        "filmsplat render tests/data/thin-film-sph/drops_on_film/105 --liquid droplets -o dust.png",
+        Small,
+    ),
     // first render, own data
     ("filmsplat render samples/bubble.toml -o bubble.png", Small),
     (
