@@ -228,7 +228,8 @@ pub fn merge_shared_walls(sets: &mut [PointCloud]) -> WallReport {
     report
 }
 
-/// True if the two sets' bounding boxes overlap.
+/// True if the two sets' bounding boxes, grown by 5 % of the larger diagonal (a flat wall's
+/// box is flat), overlap.
 fn bounds_meet(a: &PointCloud, b: &PointCloud) -> bool {
     let bounds = |c: &PointCloud| {
         c.positions
@@ -238,7 +239,8 @@ fn bounds_meet(a: &PointCloud, b: &PointCloud) -> bool {
             })
     };
     let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
-    alo.cmple(bhi).all() && blo.cmple(ahi).all()
+    let m = 0.05 * (ahi - alo).length().max((bhi - blo).length());
+    (alo - m).cmple(bhi + m).all() && (blo - m).cmple(ahi + m).all()
 }
 
 /// Merges the wall of sets `a` (kept) and `b` (removed), if they share one.
@@ -318,4 +320,42 @@ fn median(v: &mut [f32]) -> f32 {
     }
     let mid = v.len() / 2;
     *v.select_nth_unstable_by(mid, f32::total_cmp).1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A square grid of `n`² particles (spacing 1) in the plane through `o` spanned by `u`, `v`.
+    fn sheet(o: Vec3, u: Vec3, v: Vec3, n: i32, h: f32) -> PointCloud {
+        let positions: Vec<Vec3> = (0..n * n)
+            .map(|k| o + (k % n) as f32 * u + (k / n) as f32 * v)
+            .collect();
+        let normal = u.cross(v).normalize();
+        PointCloud {
+            normals: Some(vec![normal; positions.len()]),
+            thickness_nm: Some(vec![h; positions.len()]),
+            positions,
+            ..PointCloud::default()
+        }
+    }
+
+    #[test]
+    fn two_copies_of_a_wall_become_one_and_crossing_sheets_stay() {
+        // Two copies 0.15 spacings apart, opposite normals, 600 and 400 nm.
+        let a = sheet(Vec3::ZERO, Vec3::X, Vec3::Y, 12, 600.0);
+        let b = sheet(Vec3::new(0.3, 0.3, 0.15), Vec3::Y, Vec3::X, 12, 400.0);
+        let mut sets = vec![a, b];
+        let r = merge_shared_walls(&mut sets);
+        assert_eq!(r.walls.len(), 1);
+        assert!(sets[1].len() < 20, "{}", sets[1].len());
+        assert!((r.walls[0].merged_nm - 500.0).abs() < 1.0);
+        assert!((r.walls[0].gap - 0.15).abs() < 1e-3);
+        // A sheet crossing at a right angle shares no wall.
+        let a = sheet(Vec3::ZERO, Vec3::X, Vec3::Y, 12, 600.0);
+        let c = sheet(Vec3::new(0.0, 5.5, -5.0), Vec3::X, Vec3::Z, 12, 400.0);
+        let mut sets = vec![a, c];
+        assert!(merge_shared_walls(&mut sets).is_empty());
+        assert_eq!(sets[1].len(), 144);
+    }
 }
