@@ -105,12 +105,14 @@ fn a_mesh_of_the_bubble_renders_like_its_disks() {
     ]);
     // Same sphere, same thickness field (transferred from the particles by the SPH kernel):
     // only the silhouette's pixels and the steepest thickness bands (where the kernel-smoothed
-    // thickness and the blended disks' differ by a few nm) differ. Measured: mean 1.2, p95 6.3.
+    // thickness and the blended disks' differ by a few nm) differ. Measured: mean 1.2, p95 6.3
+    // under the earlier studio; 2.02, 10.6 under the dark ground and bright dome, which show the
+    // thickness bands' colours (and so their differences) with more contrast.
     let (mean, p95) = (
         v["delta_e"]["mean"].as_f64().unwrap(),
         v["delta_e"]["p95"].as_f64().unwrap(),
     );
-    assert!(mean < 2.0 && p95 < 10.0, "{v}");
+    assert!(mean < 2.5 && p95 < 12.5, "{v}");
     assert_eq!(v["b"]["elements"].as_u64(), Some(5120));
     assert!(v["b"]["mesh_s"].as_f64().is_some());
     // Spheres drawn as particles look different: far larger differences.

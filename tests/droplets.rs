@@ -157,7 +157,8 @@ fn droplets_are_in_every_exr_layer() {
     frame_100(&run, "100");
     let no_film = frame_100(&run, "110");
     empty_film(&no_film);
-    let l = render_exr(&no_film, "exr-nofilm", &[]);
+    // Every 3D particle a droplet: this test is about droplets, not bulk liquid.
+    let l = render_exr(&no_film, "exr-nofilm", &["--liquid", "droplets"]);
     let drops = l.droplets.as_ref().expect("a droplets layer");
     let depth = l.depth.as_ref().unwrap();
     let normal = l.normal.as_ref().unwrap();

@@ -164,7 +164,7 @@ fn zero_samples_or_zero_size_are_clear_errors() {
     for (edit, want) in [
         ((0, 24, 1), "image size must be between 1x1"),
         ((32, 0, 1), "image size must be between 1x1"),
-        ((32, 24, 0), "spp must be at least 1"),
+        ((32, 24, 0), "spp must be between 1 and 65536"),
     ] {
         let mut d = SceneDesc::default();
         d.input.cloud = Some(ply.clone());

@@ -46,7 +46,7 @@ fn copy_median(r: usize) -> f32 {
 fn render(primitive: &str, look_at: Vec3, name: &str) -> (String, Vec<(f32, f32, f32)>) {
     let out = tmp(&format!("foam-{name}-{primitive}.exr"));
     let v = |p: Vec3| format!("{},{},{}", p.x, p.y, p.z);
-    let (code, said, err) = filmsplat(&[
+    let (code, data, said) = filmsplat(&[
         "render",
         &data("melp/foam3/50"),
         "-o",
@@ -64,7 +64,8 @@ fn render(primitive: &str, look_at: Vec3, name: &str) -> (String, Vec<(f32, f32,
         "--look-at",
         &v(look_at),
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(code, 0, "{said}");
+    assert!(data.is_empty(), "{data}");
     let l = filmsplat::image::read_exr(&out).unwrap();
     let (d, t, h) = (l.depth.unwrap(), l.thickness.unwrap(), l.hit_count.unwrap());
     let hits = (0..d.len())
@@ -152,8 +153,9 @@ fn a_melp_frames_eulerian_and_lagrangian_files_together_draw_one_set() {
         args.extend_from_slice(extra);
         filmsplat(&args)
     };
-    let (code, said, err) = run(&[]);
-    assert_eq!(code, 0, "{err}");
+    let (code, data, said) = run(&[]);
+    assert_eq!(code, 0, "{said}");
+    assert!(data.is_empty(), "{data}");
     let note = |s: &str| {
         s.lines()
             .filter(|l| l.contains("Eulerian (e_) and Lagrangian (l_)"))
@@ -161,18 +163,18 @@ fn a_melp_frames_eulerian_and_lagrangian_files_together_draw_one_set() {
     };
     assert_eq!(note(&said), 1, "{said}");
     assert!(said.contains("19995 particles"), "{said}");
-    let (_, said, _) = run(&["--melp-set", "eulerian"]);
+    let (_, _, said) = run(&["--melp-set", "eulerian"]);
     assert!(
         said.contains("1199 particles") && note(&said) == 1,
         "{said}"
     );
-    let (_, said, _) = run(&["--melp-set", "both"]);
+    let (_, _, said) = run(&["--melp-set", "both"]);
     assert!(said.contains("21194 particles"), "{said}");
     let (code, _, err) = run(&["--melp-set", "lagrange"]);
     assert_eq!(code, 2);
     assert!(err.contains("lagrangian, eulerian or both"), "{err}");
     // One set alone: no note.
-    let (_, said, _) = filmsplat(&[
+    let (_, _, said) = filmsplat(&[
         "render",
         &l,
         "-o",

@@ -1,6 +1,7 @@
 //! `filmsplat convert`: any particle file filmsplat reads, out as binary PLY.
 
-use crate::io::{PartKind, read_parts, write_ply};
+use crate::io::{PartKind, write_ply};
+use crate::pipeline::read_input_parts;
 use crate::pointcloud::PointCloud;
 use crate::{Error, Result};
 use clap::Args;
@@ -29,7 +30,8 @@ pub struct ConvertArgs {
 /// CLI's messages) what went where.
 pub fn run(a: &ConvertArgs, out: &mut dyn Write) -> Result<()> {
     let opts = a.attributes.read_options()?;
-    let parts = read_parts(&a.input, &opts)?;
+    // Droplets sized as a render sizes them (from the run's stored volume).
+    let parts = read_input_parts(&a.input, &opts)?;
     let of = |kind: PartKind| -> PointCloud {
         let clouds: Vec<PointCloud> = parts
             .iter()

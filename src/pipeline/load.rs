@@ -247,16 +247,7 @@ fn complete(
     if let Some(t) = cloud.thickness_nm.as_mut().filter(|_| scale != 1.0) {
         t.iter_mut().for_each(|v| *v *= scale);
     }
-    if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
-        // A unit that is certainly wrong would render a blank (or white) film: refused,
-        // unless the user named the unit (then they meant it, and are warned).
-        if !unit_explicit {
-            return Err(Error::invalid(format!(
-                "{label}: {hint}, or --thickness-unit nm to render the values as they are"
-            )));
-        }
-        notes.push(Note::warning(format!("{label}: {hint}")));
-    }
+    check_unit(&label, &cloud, unit_explicit, notes)?;
     // Before anything is dropped, so the index is the particle's in its own file.
     check_thickness(&cloud, film.ior).map_err(name)?;
     // Copies at one position would be a pile of identical disks no tree can split.
@@ -311,6 +302,25 @@ fn complete(
         notes.push(Note::new(format!("{label}: {fit}")));
     }
     Ok((cloud, table, had_radius))
+}
+
+/// A thickness certainly in another unit would render a blank (or white) film: refused, unless
+/// the user named the unit (`unit_explicit`: then they meant it, and are warned).
+fn check_unit(
+    label: &str,
+    cloud: &PointCloud,
+    unit_explicit: bool,
+    notes: &mut Vec<Note>,
+) -> Result<()> {
+    if let Some(hint) = cloud.thickness_nm.as_deref().and_then(thickness_unit_hint) {
+        if !unit_explicit {
+            return Err(Error::invalid(format!(
+                "{label}: {hint}, or --thickness-unit nm to render the values as they are"
+            )));
+        }
+        notes.push(Note::warning(format!("{label}: {hint}")));
+    }
+    Ok(())
 }
 
 /// Refuses a thickness the optics cannot take (outside 0..1e6 nm), with a hint when the file's

@@ -85,7 +85,7 @@ pub fn prepare_staged(
 
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
-    let (films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
+    let (mut films, drops, mut droplets) = (loaded.films, loaded.drops, loaded.droplets);
     let liquid = loaded.liquid;
     let radii = films.radii(&config.film);
     let attribute = config
@@ -95,12 +95,7 @@ pub fn prepare_staged(
         .transpose()?;
 
     // Build: the film geometry.
-    let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
-    let geometry = build::film_geometry(&config.film, &films.cloud, &radii, films.neighbours)?;
-    let build_time = stage.finish(&format!(
-        "built the {geometry} geometry of {} particles",
-        stages::thousands(films.cloud.len())
-    ));
+    let (geometry, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
     let bounds = geometry
@@ -117,7 +112,6 @@ pub fn prepare_staged(
     let environment = build::environment(&config.environment, Studio::default().view)?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
-    let mut droplets = droplets;
     // Droplets smaller than a pixel show their share of it (see render's camera ray).
     droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
     staging.droplets = droplets;
@@ -157,6 +151,24 @@ pub fn prepare_staged(
         build_time,
         notes,
     })
+}
+
+/// Build: the film geometry of the completed films (their neighbour table handed on), timed
+/// and shown as a progress stage.
+fn build_geometry(
+    config: &RenderConfig,
+    films: &mut load::Films,
+    radii: &[f32],
+    progress: Progress,
+) -> Result<(crate::geometry::FilmGeometry, std::time::Duration)> {
+    let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
+    let neighbours = films.neighbours.take();
+    let geometry = build::film_geometry(&config.film, &films.cloud, radii, neighbours)?;
+    let build_time = stage.finish(&format!(
+        "built the {geometry} geometry of {} particles",
+        stages::thousands(films.cloud.len())
+    ));
+    Ok((geometry, build_time))
 }
 
 /// The scene's particles, loaded and completed.
