@@ -23,7 +23,9 @@ def test_render_statistics_of_the_default_thickness_shell(shell_scene):
     assert alpha[24, 32] == 1 and alpha[0, 0] == 0
     assert 0.2 < alpha.mean() < 0.9
     layers = img.layers
-    assert set(layers) == {"depth", "normal", "thickness", "hits"}
+    assert set(layers) == {"depth", "normal", "thickness", "hits", "droplets"}
+    # The shell has no droplets: its droplet share is 0 everywhere.
+    assert np.all(layers["droplets"] == 0)
     hit = alpha > 0
     # Film colours can leave the sRGB gamut (negative channels); the studio light cannot.
     assert rgb[~hit].min() >= 0 and rgb[hit].mean() > 0

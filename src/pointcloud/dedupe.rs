@@ -6,7 +6,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::PointCloud;
-use super::validate::compact;
+use super::validate::keep_particles;
 
 /// Removes every particle whose position (bit for bit, -0 = +0) equals an earlier particle's,
 /// keeping the first in file order with its attributes. Returns how many were removed.
@@ -36,19 +36,7 @@ pub fn drop_coincident(cloud: &mut PointCloud) -> usize {
         }
     }
     if removed > 0 {
-        compact(&mut cloud.positions, &keep);
-        for v in [&mut cloud.normals].into_iter().flatten() {
-            compact(v, &keep);
-        }
-        for v in [&mut cloud.thickness_nm, &mut cloud.radius]
-            .into_iter()
-            .flatten()
-        {
-            compact(v, &keep);
-        }
-        for (_, v) in &mut cloud.extra {
-            compact(v, &keep);
-        }
+        keep_particles(cloud, &keep);
     }
     removed
 }

@@ -263,19 +263,7 @@ pub fn repair(cloud: &mut PointCloud) -> RepairReport {
         })
         .collect();
     if keep.iter().any(|k| !k) {
-        compact(&mut cloud.positions, &keep);
-        if let Some(v) = &mut cloud.normals {
-            compact(v, &keep);
-        }
-        if let Some(v) = &mut cloud.thickness_nm {
-            compact(v, &keep);
-        }
-        if let Some(v) = &mut cloud.radius {
-            compact(v, &keep);
-        }
-        for (_, v) in &mut cloud.extra {
-            compact(v, &keep);
-        }
+        keep_particles(cloud, &keep);
     }
     if let Some(v) = &mut cloud.normals {
         for m in v.iter_mut().filter(|m| normal_unusable(m)) {
@@ -290,6 +278,23 @@ pub fn repair(cloud: &mut PointCloud) -> RepairReport {
         }
     }
     report
+}
+
+/// Keeps the particles whose `keep` flag is set, in order, with all their attributes.
+pub(crate) fn keep_particles(cloud: &mut PointCloud, keep: &[bool]) {
+    compact(&mut cloud.positions, keep);
+    if let Some(v) = &mut cloud.normals {
+        compact(v, keep);
+    }
+    for v in [&mut cloud.thickness_nm, &mut cloud.radius]
+        .into_iter()
+        .flatten()
+    {
+        compact(v, keep);
+    }
+    for (_, v) in &mut cloud.extra {
+        compact(v, keep);
+    }
 }
 
 /// Keeps the entries whose `keep` flag is set, in order.

@@ -26,7 +26,7 @@ use glam::Vec3;
 
 use super::PointCloud;
 use super::knn::PointIndex;
-use super::validate::compact;
+use super::validate::keep_particles;
 
 /// Neighbours of the other copy searched around each particle.
 const NEIGHBOURS: usize = 12;
@@ -298,19 +298,7 @@ fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
 /// Removes the particles flagged in `drop`, with all their attributes.
 fn remove(cloud: &mut PointCloud, drop: &[bool]) {
     let keep: Vec<bool> = drop.iter().map(|d| !d).collect();
-    compact(&mut cloud.positions, &keep);
-    if let Some(v) = cloud.normals.as_mut() {
-        compact(v, &keep);
-    }
-    for v in [&mut cloud.thickness_nm, &mut cloud.radius]
-        .into_iter()
-        .flatten()
-    {
-        compact(v, &keep);
-    }
-    for (_, v) in &mut cloud.extra {
-        compact(v, &keep);
-    }
+    keep_particles(cloud, &keep);
 }
 
 /// The median of `v` (0 if empty).
