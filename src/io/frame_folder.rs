@@ -296,13 +296,6 @@ pub(crate) const NO_ROLES: Aliases = Aliases {
     default_scale_to_nm: 1e9,
 };
 
-/// The run's first frame folder for the frame folder `dir` (`<run>/<N>` → `<run>/0`, `dir`
-/// itself for frame 0), whether or not it exists; `None` if `dir` has no parent. Plain data:
-/// what it means for rendering is the pipeline's decision.
-pub fn run_first_frame(dir: &Path) -> Option<PathBuf> {
-    dir.parent().map(|p| p.join("0"))
-}
-
 /// How many 3D particles (droplets) the frame folder `dir`'s `tracker_points_3d` holds (0
 /// without the file), from its 4-byte header and its size alone, with the checks of the full
 /// read.

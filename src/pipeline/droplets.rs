@@ -108,16 +108,14 @@ fn span(r: &[f32]) -> String {
 /// The run's film particle volume (m³) and where it came from (steps 2..5 of the module docs).
 fn run_volume(input: &Path, parts: &[CloudPart]) -> Option<(f64, String)> {
     let (root, frame) = run_of(input);
+    let first = run_first_frame(input);
     let described = |(v, src): (f64, VolumeSource), from: &Path| {
         (v, format!("{src} of the film of {}", from.display()))
     };
-    if let Some(root) = &root {
-        let first = root.join("0");
-        if first != input
-            && let Some(v) = frame_volume(&first)
-        {
-            return Some(described(v, &first));
-        }
+    if let Some(first) = first.filter(|f| f != input)
+        && let Some(v) = frame_volume(&first)
+    {
+        return Some(described(v, &first));
     }
     if let Some(v) = parts
         .iter()
@@ -136,6 +134,13 @@ fn run_volume(input: &Path, parts: &[CloudPart]) -> Option<(f64, String)> {
     (1..=EARLIER_FRAMES.min(k))
         .map(|d| root.join((k - d).to_string()))
         .find_map(|f| frame_volume(&f).map(|v| described(v, &f)))
+}
+
+/// The run's first frame folder (`run/0`) for a frame `run/K` or a snapshot `run/snapshot/K`,
+/// whether or not it exists; `None` for a file or a folder with no parent. The droplets take
+/// their volume from it, and the liquid's origin is told by it.
+pub(super) fn run_first_frame(input: &Path) -> Option<PathBuf> {
+    run_of(input).0.map(|root| root.join("0"))
 }
 
 /// The folder holding a run's frames and this input's frame number: a frame folder `run/K`

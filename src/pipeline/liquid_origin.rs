@@ -7,7 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::io::frame_folder::{droplet_count, run_first_frame};
+use super::droplets::run_first_frame;
+use crate::io::frame_folder::droplet_count;
 use crate::io::{CloudFormat, detect_format};
 
 /// What the run's first frame says about the 3D particles' origin.
