@@ -1,12 +1,12 @@
 //! `filmsplat convert`: any particle file filmsplat reads, out as binary PLY.
 
-use crate::io::{PartKind, write_ply};
+use crate::io::{PartKind, write_droplets_ply, write_ply};
 use crate::pipeline::read_input_parts;
 use crate::pointcloud::PointCloud;
 use crate::{Error, Result};
 use clap::Args;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `filmsplat convert`.
 #[derive(Debug, Args)]
@@ -54,9 +54,10 @@ pub fn run(a: &ConvertArgs, out: &mut dyn Write) -> Result<()> {
         film.extra.retain(|(n, _)| keep.contains(n));
         droplets.extra.retain(|(n, _)| keep.contains(n));
     }
-    let droplet_path = (!droplets.is_empty()).then(|| droplets_path(&a.output));
+    let droplet_path =
+        (!droplets.is_empty()).then(|| crate::pipeline::beside::droplets_path(&a.output));
     if let Some(p) = &droplet_path {
-        write_ply(p, &droplets)?;
+        write_droplets_ply(p, &droplets)?;
     }
     write_ply(&a.output, &film)?;
     let _ = writeln!(
@@ -74,10 +75,4 @@ pub fn run(a: &ConvertArgs, out: &mut dyn Write) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// Where the droplets of `output` go: `STEM.droplets.ply` in its folder.
-fn droplets_path(output: &Path) -> PathBuf {
-    let stem = output.file_stem().unwrap_or_default().to_string_lossy();
-    output.with_file_name(format!("{stem}.droplets.ply"))
 }

@@ -74,6 +74,25 @@ pub(super) fn expand(pattern: &Path) -> Result<Vec<PathBuf>> {
     Ok(found)
 }
 
+/// `inputs` without the droplets files `convert` wrote beside a film that is also among them
+/// (`a.droplets.ply` beside `a.ply`: rendering `a.ply` reads them, see
+/// [`crate::pipeline::beside`]), and how many were taken out.
+pub(super) fn without_droplets_beside(inputs: Vec<PathBuf>) -> (Vec<PathBuf>, usize) {
+    use crate::pipeline::beside::{droplets_path, is_droplets_name};
+    let beside: std::collections::HashSet<PathBuf> = inputs
+        .iter()
+        .filter(|p| !is_droplets_name(p))
+        .map(|p| droplets_path(p))
+        .collect();
+    let n = inputs.len();
+    let kept: Vec<PathBuf> = inputs
+        .into_iter()
+        .filter(|p| !(is_droplets_name(p) && beside.contains(p)))
+        .collect();
+    let taken = n - kept.len();
+    (kept, taken)
+}
+
 /// `output` with every `{stem}` replaced by `input`'s file stem (`frames/a.0001.ply` →
 /// `a.0001`); unchanged without `{stem}`.
 pub(super) fn with_stem(output: &Path, input: &Path) -> PathBuf {

@@ -32,14 +32,16 @@ pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
     let parts = read_input_parts(&a.input, &opts)?;
     let io = |e: std::io::Error| crate::Error::invalid(format!("info: writing output: {e}"));
     writeln!(out, "{}", a.input.display()).map_err(io)?;
-    let many = parts.len() > 1;
+    // A single film needs no heading; droplets always say what they are.
+    let many = parts.len() > 1 || parts.iter().any(|p| p.kind != PartKind::Film);
     for (k, part) in parts.iter().enumerate() {
         if many {
             writeln!(
                 out,
-                "\n== part {} of {}: {}, {} particles",
+                "\n== part {} of {} ({}): {}, {} particles",
                 k + 1,
                 parts.len(),
+                part.kind,
                 part.label,
                 part.cloud.len()
             )

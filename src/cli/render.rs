@@ -36,7 +36,16 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
 /// skips finished outputs as the frame sequences do ([`seq::finished`]).
 fn run_glob(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
     let pattern = a.inputs.first().cloned().unwrap_or_default();
-    let inputs = glob::expand(&pattern)?;
+    let (inputs, beside) = glob::without_droplets_beside(glob::expand(&pattern)?);
+    if beside > 0 {
+        let _ = writeln!(
+            out,
+            "note: {beside} of the files matching {} are droplets beside a film \
+             (NAME.droplets.ply, written by convert): each is read with its film, not as a \
+             frame of its own",
+            pattern.display()
+        );
+    }
     let output = a.output.as_ref().ok_or_else(|| {
         Error::invalid(format!(
             "{}: a glob input needs -o with {{stem}}, e.g. -o 'out/{{stem}}.png'",

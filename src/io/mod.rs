@@ -55,7 +55,7 @@ pub use obj::read_mesh;
 pub use part::{CloudPart, PartKind};
 pub use peek::{CountHint, peek_count};
 pub use read::{read_as, read_bytes, read_cloud, read_cloud_described, read_parts, read_timestep};
-pub use write_ply::{write_mesh_ply, write_ply};
+pub use write_ply::{write_droplets_ply, write_mesh_ply, write_ply};
 
 use std::io::Read;
 use std::path::Path;

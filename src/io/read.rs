@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::part::{CloudPart, film_of};
+use super::part::{CloudPart, PartKind, film_of};
 use super::{
     CloudFormat, ReadOptions, StoredAttribute, bgeo, by_content, csv, detect_format, format_error,
     frame_folder, input, melp_folder, ply, pvd, read_file, snapshot, vtk, vtu,
@@ -103,12 +103,14 @@ pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
         CloudFormat::MelpFolder => melp_folder::read_parts(path, opts),
         CloudFormat::Pvd => read_timestep(path, 0, opts),
         _ => {
+            let droplets =
+                format == CloudFormat::Ply && !input::is_stream(path) && ply::holds_droplets(path)?;
             let (cloud, stored) = read_cloud_described(path, opts)?;
-            Ok(vec![CloudPart::film(
-                path.display().to_string(),
-                cloud,
-                stored,
-            )])
+            let mut part = CloudPart::film(path.display().to_string(), cloud, stored);
+            if droplets {
+                part.kind = PartKind::Droplets;
+            }
+            Ok(vec![part])
         }
     }
 }

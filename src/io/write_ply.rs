@@ -10,20 +10,33 @@ use std::path::Path;
 /// (thickness in nm) and `radius` when present, then every extra attribute, all `float`.
 /// Written to a temporary file and renamed, so a failure never leaves a partial file.
 pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
-    write_with_faces(path, cloud, &[])
+    write_with_faces(path, cloud, &[], "")
+}
+
+/// Writes droplets (`cloud` with each droplet's `radius`, scene units) as [`write_ply`] does,
+/// marked as droplets in the header (`comment filmsplat part droplets`), so that reading the
+/// file back ([`crate::io::read_parts`]) gives a droplets part, not a film.
+pub fn write_droplets_ply(path: &Path, cloud: &PointCloud) -> Result<()> {
+    write_with_faces(path, cloud, &[], "comment filmsplat part droplets\n")
 }
 
 /// Writes `mesh` to `path` as binary little-endian PLY: its vertices as [`write_ply`] writes a
 /// cloud, then element `face` with `property list uchar int vertex_indices`. Atomic.
 pub fn write_mesh_ply(path: &Path, mesh: &TriangleMesh) -> Result<()> {
-    write_with_faces(path, &mesh.vertices, &mesh.triangles)
+    write_with_faces(path, &mesh.vertices, &mesh.triangles, "")
 }
 
-fn write_with_faces(path: &Path, cloud: &PointCloud, faces: &[[u32; 3]]) -> Result<()> {
+/// Writes `cloud` and `faces`, with `comments` (whole header lines) after the first comment.
+fn write_with_faces(
+    path: &Path,
+    cloud: &PointCloud,
+    faces: &[[u32; 3]],
+    comments: &str,
+) -> Result<()> {
     let mut columns: Vec<(&str, &[f32])> = Vec::new();
     let n = cloud.len();
     let mut header = format!(
-        "ply\nformat binary_little_endian 1.0\ncomment written by filmsplat\nelement vertex {n}\n"
+        "ply\nformat binary_little_endian 1.0\ncomment written by filmsplat\n{comments}element vertex {n}\n"
     );
     for name in ["x", "y", "z"] {
         header.push_str(&format!("property float {name}\n"));

@@ -32,6 +32,7 @@ pub const EARLIER_FRAMES: u32 = 16;
 /// passed over.
 pub fn read_input_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     let mut parts = read_parts(path, opts)?;
+    parts.extend(super::beside::droplets_beside(path, opts)?);
     size_droplets(path, &mut parts);
     Ok(parts)
 }

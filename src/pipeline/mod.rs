@@ -10,6 +10,7 @@
 //! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
 //! ```
 
+pub mod beside;
 mod build;
 pub mod compare;
 pub mod config;

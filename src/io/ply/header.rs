@@ -151,6 +151,9 @@ pub(super) struct Header {
     pub elements: Vec<Element>,
     /// Number of header lines including `ply` and `end_header` (ASCII line numbers continue).
     pub lines: usize,
+    /// The header says its vertices are droplets (`comment filmsplat part droplets`, which
+    /// [`crate::io::write_droplets_ply`] writes).
+    pub droplets: bool,
 }
 
 /// Shows untrusted header text in a one-line message: escaped and shortened.
@@ -170,6 +173,7 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
     // Names seen so far (sets keep huge adversarial headers linear).
     let mut element_names = HashSet::new();
     let mut prop_names = HashSet::new();
+    let mut droplets = false;
     loop {
         n += 1;
         let raw = match src.read_line(MAX_HEADER_LINE)? {
@@ -203,7 +207,8 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
         let rest: Vec<&str> = words.collect();
         let bad = |what: &str| Fail::msg(format!("header line {n}: {what}: '{}'", show(line)));
         match keyword {
-            "comment" | "obj_info" | "" => {}
+            "comment" => droplets |= rest == ["filmsplat", "part", "droplets"],
+            "obj_info" | "" => {}
             "format" => {
                 let enc = match rest.first().copied() {
                     Some("ascii") => Encoding::Ascii,
@@ -284,6 +289,7 @@ pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
         encoding,
         elements,
         lines: n,
+        droplets,
     })
 }
 

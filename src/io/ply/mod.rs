@@ -52,6 +52,19 @@ pub(crate) fn read_file(
     with_file(path, |file, len| read_from(file, len, opts))
 }
 
+/// True if the PLY file at `path` marks its vertices as droplets (its header holds
+/// `comment filmsplat part droplets`, as [`crate::io::write_droplets_ply`] writes). Reads the
+/// header only.
+///
+/// # Errors
+/// As [`read_file`], for a file whose header cannot be read.
+pub(crate) fn holds_droplets(path: &Path) -> Result<bool> {
+    with_file(path, |file, len| {
+        let mut src = source::Source::new(file, len);
+        Ok(header::parse(&mut src)?.droplets)
+    })
+}
+
 /// Opens the file at `path` (refusing directories) and runs `read` on it with the file's length
 /// (a regular file's length bounds its content; a pipe is first read into memory, bounded, by
 /// [`crate::io::input::read_all`]). Failures become
