@@ -3,11 +3,12 @@
 //! resume skips finished frames and cleans an interrupted run's temporaries, keep-going
 //! reports every failure.
 
+use filmsplat::pipeline::camera_path::FrameCamera;
 use filmsplat::pipeline::sequence::{
     FrameJob, SequenceOptions, at_frame, expand, frames, render_sequence, shard, sharded,
 };
 use filmsplat::pipeline::{Prepared, prepare};
-use filmsplat::scene::{CameraDesc, SceneDesc};
+use filmsplat::scene::SceneDesc;
 use filmsplat::{Error, Result};
 use std::cell::RefCell;
 use std::io::Write;
@@ -69,11 +70,11 @@ impl FrameJob for Job {
     fn render(
         &self,
         f: u64,
-        camera: Option<&CameraDesc>,
+        camera: Option<&FrameCamera>,
         ready: Option<Prepared>,
         _out: &mut dyn Write,
     ) -> Result<()> {
-        let cam = camera.map(|c| (c.position.unwrap(), c.look_at.unwrap()));
+        let cam = camera.map(|c| (c.camera.position.unwrap(), c.camera.look_at.unwrap()));
         self.rendered.borrow_mut().push((f, cam, ready.is_some()));
         if self.fail.contains(&f) {
             return Err(Error::invalid("boom"));
@@ -215,7 +216,7 @@ fn bad_outputs_fail_before_any_frame_renders() {
         fn render(
             &self,
             f: u64,
-            c: Option<&CameraDesc>,
+            c: Option<&FrameCamera>,
             r: Option<Prepared>,
             o: &mut dyn Write,
         ) -> Result<()> {

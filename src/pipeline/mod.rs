@@ -11,6 +11,7 @@
 //! ```
 
 mod build;
+pub mod camera_path;
 pub mod compare;
 pub mod config;
 mod droplets;
@@ -109,7 +110,12 @@ pub fn prepare_staged(
     let camera = config.camera.camera(&framing, aspect)?;
     // The studio stays where the default camera's photographer set it (not turned with this
     // camera), so the viewer's orbits and the same camera given as scene lines light alike.
-    let environment = build::environment(&config.environment, Studio::default().view)?;
+    let mut environment = build::environment(&config.environment, Studio::default().view)?;
+    // A turntable's frame: the light turns with the camera.
+    let turn_deg = desc.environment.turn_deg;
+    if turn_deg != 0.0 {
+        environment.turn(turn_deg);
+    }
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     // Droplets smaller than a pixel show their share of it (see render's camera ray).
@@ -133,6 +139,7 @@ pub fn prepare_staged(
         },
         framing,
         aspect,
+        turn_deg,
         shader,
         settings: RenderSettings {
             progress: progress == Progress::Bar,

@@ -17,6 +17,9 @@ pub struct Prepared {
     /// Width / height of the part of the image the scene fills (the image without a view's
     /// colour bar): the aspect auto-framing frames for.
     pub aspect: f32,
+    /// Degrees the environment is turned about +y (a turntable's frame; see
+    /// [`Prepared::aim`]).
+    pub turn_deg: f32,
     /// The film shader.
     pub shader: FilmShader,
     /// Sampling settings.
@@ -48,6 +51,27 @@ pub struct Prepared {
 }
 
 impl Prepared {
+    /// Points this prepared scene's camera at `desc`'s `[camera]`, turns its light as `desc`
+    /// turns it (a turntable) and takes its exposure (a
+    /// turntable's next frame, a camera path's next key): the geometry stays as prepared, the
+    /// droplets' pixel footprints follow the new camera, as a fresh preparation would set them.
+    ///
+    /// # Errors
+    /// As [`super::camera`] for a bad `[camera]`; [`crate::Error::Invalid`] for a bad
+    /// exposure.
+    pub fn aim(&mut self, desc: &crate::scene::SceneDesc) -> crate::Result<()> {
+        let camera = super::camera(desc, &self.framing, self.aspect)?;
+        let height = self.settings.height;
+        let droplets = &mut self.scene.staging.droplets;
+        droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
+        self.scene.camera = camera;
+        let turn = desc.environment.turn_deg;
+        self.scene.environment.turn(turn - self.turn_deg);
+        self.turn_deg = turn;
+        self.exposure = super::config::exposure(&desc.output)?;
+        Ok(())
+    }
+
     /// Adds a note for the user.
     pub fn note(&mut self, text: impl Into<String>) {
         self.notes.push(Note::new(text));
