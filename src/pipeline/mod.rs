@@ -110,25 +110,15 @@ pub fn prepare_staged(
     let camera = config.camera.camera(&framing, aspect)?;
     // The studio stays where the default camera's photographer set it (not turned with this
     // camera), so the viewer's orbits and the same camera given as scene lines light alike.
-    let mut environment = build::environment(&config.environment, Studio::default().view)?;
-    // A turntable's frame: the light turns with the camera.
-    let turn_deg = desc.environment.turn_deg;
-    if turn_deg != 0.0 {
-        environment.turn(turn_deg);
-    }
+    let environment = build::environment(&config.environment, Studio::default().view)?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     // Droplets smaller than a pixel show their share of it (see render's camera ray).
     droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
     staging.droplets = droplets;
     staging.liquid = liquid;
-    let shader = FilmShader::new(
-        config.film.ior,
-        config.shading,
-        config.wavelengths,
-        config.strategy,
-    );
-    Ok(Prepared {
+    let shader = film_shader(&config);
+    let mut prepared = Prepared {
         scene: Scene {
             geometry,
             camera,
@@ -139,7 +129,8 @@ pub fn prepare_staged(
         },
         framing,
         aspect,
-        turn_deg,
+        turn_deg: 0.0,
+        unturned: None,
         shader,
         settings: RenderSettings {
             progress: progress == Progress::Bar,
@@ -157,7 +148,20 @@ pub fn prepare_staged(
         estimate_time: loaded.estimate_time,
         build_time,
         notes,
-    })
+    };
+    // A turntable's frame: the light turns with the camera.
+    prepared.turn_light(desc.environment.turn_deg);
+    Ok(prepared)
+}
+
+/// The film shader `config` asks for.
+fn film_shader(config: &RenderConfig) -> FilmShader {
+    FilmShader::new(
+        config.film.ior,
+        config.shading,
+        config.wavelengths,
+        config.strategy,
+    )
 }
 
 /// Build: the film geometry of the completed films (their neighbour table handed on), timed

@@ -18,8 +18,11 @@ pub struct Prepared {
     /// colour bar): the aspect auto-framing frames for.
     pub aspect: f32,
     /// Degrees the environment is turned about +y (a turntable's frame; see
-    /// [`Prepared::aim`]).
+    /// [`Prepared::turn_light`]).
     pub turn_deg: f32,
+    /// The environment as prepared, before any turn (kept once it is first turned, so turning
+    /// back gives it exactly).
+    pub unturned: Option<crate::render::Environment>,
     /// The film shader.
     pub shader: FilmShader,
     /// Sampling settings.
@@ -65,11 +68,27 @@ impl Prepared {
         let droplets = &mut self.scene.staging.droplets;
         droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
         self.scene.camera = camera;
-        let turn = desc.environment.turn_deg;
-        self.scene.environment.turn(turn - self.turn_deg);
-        self.turn_deg = turn;
+        self.turn_light(desc.environment.turn_deg);
         self.exposure = super::config::exposure(&desc.output)?;
         Ok(())
+    }
+
+    /// Turns the environment `deg` degrees about +y from where it was prepared (see
+    /// [`crate::render::Environment::turn`]): exactly the prepared light again at 0, whatever
+    /// turns came before. Costs a copy of the environment (a map's texels) when turned.
+    pub fn turn_light(&mut self, deg: f32) {
+        if deg == self.turn_deg {
+            return;
+        }
+        let base = self
+            .unturned
+            .get_or_insert_with(|| self.scene.environment.clone());
+        let mut env = base.clone();
+        if deg != 0.0 {
+            env.turn(deg);
+        }
+        self.scene.environment = env;
+        self.turn_deg = deg;
     }
 
     /// Adds a note for the user.
