@@ -238,7 +238,11 @@ pub fn path_toml(start: &CameraDesc, mv: &CameraMove) -> String {
                 fov: start.fov,
                 ..CameraDesc::default()
             };
-            let mut s = camera_toml(&head);
+            let mut s = if head == CameraDesc::default() {
+                String::new()
+            } else {
+                camera_toml(&head)
+            };
             for k in keys {
                 s += &key_toml(k);
             }
