@@ -236,3 +236,32 @@ fn bad_orbits_and_keys_are_one_line_exit_2_before_any_frame() {
         assert_eq!(written, 0, "{name}: frames were written");
     }
 }
+
+#[test]
+fn a_single_image_of_a_moving_camera_says_it_uses_the_start() {
+    let dir = folder("single-keyed");
+    flat_film(&dir.join("flat.ply"));
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "[input]\ncloud = \"flat.ply\"\n\n[camera]\norbit = 90\n",
+    )
+    .unwrap();
+    let out = dir.join("one.png");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "16x12",
+        "--spp",
+        "1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("this single image is rendered from [camera] alone"),
+        "{err}"
+    );
+    assert!(out.exists());
+}
