@@ -114,6 +114,9 @@ fn fixtures() -> PathBuf {
         }
     }
     std::fs::write(dir.join("scene.toml"), docs_scene_file()).unwrap();
+    for (name, text) in docs_toml_files() {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
     std::fs::write(dir.join("frame_m.ply"), plane_in_metres()).unwrap();
     let frame = root().join("tests/data/thin-film-sph/bursting_bubble/60");
     for n in ["0", "1"] {
@@ -144,6 +147,21 @@ fn docs_scene_file() -> String {
         .find(|b| b.lang == "toml" && b.body[0].starts_with("# scene.toml"))
         .expect("docs/scene-files.md shows scene.toml");
     block.body.join("\n") + "\n"
+}
+
+/// The other scene files docs/sequences.md shows: its ```toml blocks starting `# NAME.toml:`,
+/// as (NAME.toml, text).
+fn docs_toml_files() -> Vec<(String, String)> {
+    let text = std::fs::read_to_string(root().join("docs/sequences.md")).unwrap();
+    blocks(&text)
+        .into_iter()
+        .filter(|b| b.lang == "toml")
+        .filter_map(|b| {
+            let name = b.body[0].strip_prefix("# ")?.split(':').next()?.to_string();
+            name.ends_with(".toml")
+                .then(|| (name, b.body.join("\n") + "\n"))
+        })
+        .collect()
 }
 
 /// A 20 × 20 film on a plane, thickness `rh` 300–700 nm stored in metres (ASCII PLY).

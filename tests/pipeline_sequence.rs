@@ -3,11 +3,12 @@
 //! resume skips finished frames and cleans an interrupted run's temporaries, keep-going
 //! reports every failure.
 
+use filmsplat::pipeline::camera_path::FrameCamera;
 use filmsplat::pipeline::sequence::{
     FrameJob, SequenceOptions, at_frame, expand, frames, render_sequence, shard, sharded,
 };
 use filmsplat::pipeline::{Prepared, prepare};
-use filmsplat::scene::{CameraDesc, SceneDesc};
+use filmsplat::scene::SceneDesc;
 use filmsplat::{Error, Result};
 use std::cell::RefCell;
 use std::io::Write;
@@ -22,6 +23,8 @@ struct Job {
     dir: PathBuf,
     fail: Vec<u64>,
     camera: Option<[f32; 3]>,
+    /// More scene-file lines (camera keys, an orbit).
+    extra: String,
     /// (frame, the camera it got (position, look-at), whether it came prepared).
     rendered: RefCell<Vec<(u64, Option<Cam>, bool)>>,
     prepared: RefCell<Vec<u64>>,
@@ -36,6 +39,7 @@ impl Job {
             dir,
             fail: Vec::new(),
             camera: None,
+            extra: String::new(),
             rendered: RefCell::new(Vec::new()),
             prepared: RefCell::new(Vec::new()),
         }
@@ -49,7 +53,11 @@ impl FrameJob for Job {
 
     fn scene(&self, _f: u64) -> Result<SceneDesc> {
         let mut d = SceneDesc::from_toml(
-            "[input]\nsample = \"bubble\"\nparticles = 300\n[render]\nwidth = 16\nheight = 12\n",
+            &format!(
+                "[input]\nsample = \"bubble\"\nparticles = 300\n[render]\nwidth = 16\nheight = \
+                 12\n{}",
+                self.extra
+            ),
             "inline",
         )?;
         d.camera.position = self.camera;
@@ -69,11 +77,11 @@ impl FrameJob for Job {
     fn render(
         &self,
         f: u64,
-        camera: Option<&CameraDesc>,
+        camera: Option<&FrameCamera>,
         ready: Option<Prepared>,
         _out: &mut dyn Write,
     ) -> Result<()> {
-        let cam = camera.map(|c| (c.position.unwrap(), c.look_at.unwrap()));
+        let cam = camera.map(|c| (c.camera.position.unwrap(), c.camera.look_at.unwrap()));
         self.rendered.borrow_mut().push((f, cam, ready.is_some()));
         if self.fail.contains(&f) {
             return Err(Error::invalid("boom"));
@@ -215,7 +223,7 @@ fn bad_outputs_fail_before_any_frame_renders() {
         fn render(
             &self,
             f: u64,
-            c: Option<&CameraDesc>,
+            c: Option<&FrameCamera>,
             r: Option<Prepared>,
             o: &mut dyn Write,
         ) -> Result<()> {
@@ -265,4 +273,62 @@ fn patterns_ranges_shards_and_frame_scenes() {
     s.input.time = Some(1.0);
     at_frame(&mut s, 12, 24.0).unwrap();
     assert_eq!(s.input.time, Some(1.5));
+}
+
+/// Every frame's camera (position, look-at) of `job` rendered in `shards` jobs.
+fn cameras(name: &str, extra: &str, frames: &[u64], shards: u64) -> Vec<(u64, Cam)> {
+    let mut all = Vec::new();
+    for k in 0..shards {
+        let mut job = Job::new(&format!("{name}{k}"));
+        job.extra = extra.into();
+        let o = SequenceOptions {
+            shard: Some((k, shards)),
+            ..opts(frames)
+        };
+        run(&job, &o).0.unwrap();
+        all.extend(
+            job.rendered
+                .into_inner()
+                .into_iter()
+                .map(|(f, c, _)| (f, c.unwrap())),
+        );
+    }
+    all.sort_by_key(|(f, _)| *f);
+    all
+}
+
+#[test]
+fn keys_and_orbits_give_each_frame_its_camera_alike_in_every_shard() {
+    let keys = "[[camera.key]]\nframe = 2\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n\
+                [[camera.key]]\nframe = 6\nposition = [4, 0, 3]\nlook_at = [0, 1, 0]\n";
+    let frames: Vec<u64> = (0..9).collect();
+    let one = cameras("keys", keys, &frames, 1);
+    assert_eq!(one, cameras("keys-sharded", keys, &frames, 3));
+    for (f, (p, t)) in &one {
+        match f {
+            // Held before the first key and after the last.
+            0..=2 => assert_eq!((*p, *t), ([0.0, 0.0, 5.0], [0.0, 0.0, 0.0]), "frame {f}"),
+            6.. => assert_eq!((*p, *t), ([4.0, 0.0, 3.0], [0.0, 1.0, 0.0]), "frame {f}"),
+            // Two keys: a straight line, halfway at frame 4.
+            _ => assert!(*f != 4 || (p[0] - 2.0).abs() < 1e-5 && (t[1] - 0.5).abs() < 1e-5),
+        }
+    }
+    // An orbit turns the auto-framed start a quarter per frame of four, in every shard alike.
+    let frames: Vec<u64> = (10..14).collect();
+    let orbit = cameras("orbit", "[camera]\norbit = 360\n", &frames, 1);
+    assert_eq!(
+        orbit,
+        cameras("orbit-sharded", "[camera]\norbit = 360\n", &frames, 2)
+    );
+    let (p0, t) = orbit[0].1;
+    let (p2, t2) = orbit[2].1;
+    assert_eq!(t, t2);
+    // Half a turn: the start mirrored through the vertical axis at the look-at point.
+    for i in [0, 2] {
+        assert!(
+            (p2[i] - (2.0 * t[i] - p0[i])).abs() < 1e-4,
+            "{p0:?} -> {p2:?}"
+        );
+    }
+    assert!((p2[1] - p0[1]).abs() < 1e-5);
 }

@@ -273,3 +273,17 @@ fn the_least_recently_used_frames_go_when_the_budget_is_exceeded() {
         3
     );
 }
+
+#[test]
+fn copy_camera_at_a_frame_gives_a_camera_path_key_that_reads_back() {
+    let s = start(SCENE);
+    let lines = get(s.addr, &format!("/api/camera?{CAMERA}&frame=0")).text();
+    assert!(lines.starts_with("[[camera.key]]\nframe = 0\n"), "{lines}");
+    let back = SceneDesc::from_toml(&format!("{SCENE}{lines}"), "pasted").unwrap();
+    let key = &back.camera.key[0];
+    assert_eq!(key.position, [0.9, 0.8, 2.9]);
+    assert_eq!((key.look_at, key.fov), (Some([0.0; 3]), Some(40.0)));
+    // A frame the server does not show is refused.
+    let r = get(s.addr, &format!("/api/camera?{CAMERA}&frame=7"));
+    assert_eq!(r.status, 400, "{}", r.text());
+}

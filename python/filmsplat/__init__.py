@@ -306,6 +306,7 @@ class Scene:
         view: Optional[str] = None,
         seed: Optional[int] = None,
         progress: Any = None,
+        orbit: Optional[float] = None,
     ) -> Image:
         """Renders the scene; re-uses the built geometry (a turntable costs renders, not
         builds).
@@ -320,13 +321,19 @@ class Scene:
         * ``seed``: random seed; None: the scene's (0). The same seed gives the same image.
         * ``progress``: None or True: a tqdm bar if tqdm is installed; False: none; a
           callable: called as ``progress(done_tiles, total_tiles)`` about every 0.1 s.
+        * ``orbit``: degrees the camera (``camera``'s, or the auto-framed one) turns about its
+          up axis around its look-at point, the studio turning with it, as ``render --orbit``
+          turns frame i of N by DEG·i/N: ``[scene.render(orbit=360 * i / n) for i in
+          range(n)]`` is the CLI's turntable. None or 0: not turned.
 
         Releases the GIL and uses all cores; Ctrl-C stops it within a tile per core and
         raises ``KeyboardInterrupt``.
         """
         callback, close = _progress_callback(progress)
         try:
-            return self._scene.render(_camera_toml(camera), size, spp, view, seed, callback)
+            return self._scene.render(
+                _camera_toml(camera), size, spp, view, seed, callback, orbit
+            )
         finally:
             close()
 

@@ -106,6 +106,7 @@ class Scene:
         view: Optional[str] = None,
         seed: Optional[int] = None,
         progress: _Progress = None,
+        orbit: Optional[float] = None,
     ) -> Image:
         """Renders (GIL released, all cores; Ctrl-C raises KeyboardInterrupt)."""
 

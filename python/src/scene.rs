@@ -6,10 +6,10 @@ use crate::errors::{invalid, to_py};
 use crate::image::Image;
 use filmsplat::pipeline::config::{check_image_size, check_spp};
 use filmsplat::pipeline::memory::{MemoryEstimate, estimate_scene};
-use filmsplat::pipeline::{Prepared, camera, prepare_with};
+use filmsplat::pipeline::{Prepared, camera, camera_path, framing, prepare_with};
 use filmsplat::pointcloud::PointCloud;
 use filmsplat::render::{View, render, render_view};
-use filmsplat::scene::SceneDesc;
+use filmsplat::scene::{CameraDesc, SceneDesc};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
@@ -19,6 +19,16 @@ use std::time::Duration;
 
 /// How often a running render looks at Python: Ctrl-C and the progress callback.
 const POLL: Duration = Duration::from_millis(100);
+
+/// `desc`'s camera (the auto-framed one if it names no position; looking at the framing's
+/// centre if it names no look-at) turned `deg` degrees about its up axis.
+fn turned(desc: &SceneDesc, p: &Prepared, aspect: f32, deg: f64) -> PyResult<CameraDesc> {
+    let mut start = framing::sequence_camera(desc, &p.framing, aspect)
+        .map_err(to_py)?
+        .unwrap_or_else(|| desc.camera.clone());
+    start.look_at = start.look_at.or(Some(p.framing.centre.to_array()));
+    camera_path::orbit(&start, deg).map_err(to_py)
+}
 
 /// Concatenates clouds. An array (normals, thickness, radius, an attribute) is kept only if
 /// every cloud has it; normals and radii given by some clouds only are an error (estimating
@@ -155,8 +165,10 @@ impl NativeScene {
 
     /// Renders. `camera_toml`: a `[camera]` table replacing the scene's; `None` arguments
     /// keep the scene's values; `progress(done, total)` is called about every 0.1 s with
-    /// finished and total tiles.
-    #[pyo3(signature = (camera_toml=None, size=None, spp=None, view=None, seed=None, progress=None))]
+    /// finished and total tiles; `orbit`: degrees that camera (auto-framed if it names no
+    /// position) turns about its up axis around its look-at point, the studio with it, as
+    /// `render --orbit` turns frame i of N by DEG·i/N.
+    #[pyo3(signature = (camera_toml=None, size=None, spp=None, view=None, seed=None, progress=None, orbit=None))]
     #[allow(clippy::too_many_arguments)]
     fn render(
         &self,
@@ -167,7 +179,14 @@ impl NativeScene {
         view: Option<&str>,
         seed: Option<u64>,
         progress: Option<Py<PyAny>>,
+        orbit: Option<f64>,
     ) -> PyResult<Image> {
+        let turn = orbit.unwrap_or(0.0);
+        if !turn.is_finite() {
+            return Err(invalid(format!(
+                "orbit must be a finite number of degrees, got {turn}"
+            )));
+        }
         let cam_desc = match camera_toml {
             Some(t) => SceneDesc::from_toml(t, "camera").map_err(to_py)?.camera,
             None => self.desc.camera.clone(),
@@ -200,12 +219,17 @@ impl NativeScene {
         if let Some(s) = seed {
             settings.seed = s;
         }
-        let desc = SceneDesc {
+        let mut desc = SceneDesc {
             camera: cam_desc,
             ..SceneDesc::default()
         };
         let aspect = settings.width as f32 / settings.height as f32;
+        if turn != 0.0 {
+            desc.camera = turned(&desc, &p, aspect, turn)?;
+        }
         p.scene.camera = camera(&desc, &p.framing, aspect).map_err(to_py)?;
+        // The light turns with the camera (back to the scene's without an orbit).
+        p.turn_light(turn as f32);
         let view = view.unwrap_or(p.view);
         if view != View::Shaded {
             let (w, h) = (settings.width, settings.height);

@@ -24,6 +24,12 @@ pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
                 "--frame-all frames a whole sequence; it needs --frames",
             ));
         }
+        if a.orbit.is_some() {
+            return Err(Error::invalid(
+                "--orbit turns the camera over a sequence; it needs --frames (e.g. --frames \
+                 0..120 for 120 views)",
+            ));
+        }
         return render_one(a, out, None);
     };
     sequence::render_sequence(a, &frames.0, out)

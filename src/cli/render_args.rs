@@ -178,6 +178,14 @@ pub struct RenderArgs {
     /// is the seed plus the frame number.
     #[arg(long, value_parser = super::parse::frame_list)]
     pub(super) frames: Option<super::parse::FrameList>,
+    /// Turn the camera DEG degrees about the scene's up axis (camera.up, default +y) over the
+    /// --frames sequence, around its look-at point: frame i of N is turned by DEG·i/N, so 360
+    /// loops without a repeated frame. The start is the sequence's camera (auto-framed on the
+    /// first frame, or the scene's). With a single input without a frame pattern it is a
+    /// turntable: N views of the one cloud, loaded and prepared once. Positive turns
+    /// counter-clockwise seen from above.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = super::parse::finite_f32)]
+    pub(super) orbit: Option<f32>,
     /// Render only every N-th frame of --frames (or match of a quoted glob), starting at the
     /// K-th (K/N, 0 <= K < N), so N jobs of a render farm (e.g. K = $SLURM_ARRAY_TASK_ID) split
     /// a sequence without talking.
@@ -189,6 +197,9 @@ pub struct RenderArgs {
     /// lines.
     #[arg(long)]
     pub(super) frame_all: bool,
+    /// Degrees the light turns about +y with an orbiting camera (set by the sequence loop).
+    #[arg(skip)]
+    pub(super) turn_deg: f32,
     /// The frame being rendered (set by the sequence loop; expands patterns in a scene file).
     #[arg(skip)]
     pub(super) frame: Option<u64>,

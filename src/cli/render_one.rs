@@ -22,7 +22,7 @@ fn droplet_note(n: usize) -> String {
 }
 
 /// The image a render writes: -o, else the scene file's output.path, else render.png.
-fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
+pub(super) fn output_path(a: &RenderArgs, desc: &SceneDesc, base: &Path) -> PathBuf {
     match (&a.output, &desc.output.path) {
         (Some(o), _) => match a.inputs.first() {
             Some(i) => glob::with_stem(o, i),
@@ -115,19 +115,57 @@ pub(super) fn render_one(
     if output.as_os_str() == "-" {
         return render_to_stdout(a);
     }
+    if a.frame.is_none() && (desc.camera.orbit.is_some() || !desc.camera.key.is_empty()) {
+        let _ = writeln!(
+            out,
+            "note: camera.orbit and [[camera.key]] move the camera over a sequence (render \
+             --frames); this single image is rendered from [camera] alone"
+        );
+    }
+    let prepared = ready_or_prepare(a, &desc, ready)?;
+    render_prepared(a, &prepared, &output, Fresh::Prepared, out)
+}
+
+/// `ready` with this render's progress setting, or the frame prepared now.
+pub(super) fn ready_or_prepare(
+    a: &RenderArgs,
+    desc: &SceneDesc,
+    ready: Option<Prepared>,
+) -> Result<Prepared> {
     let progress = progress_of(a);
-    let prepared = match ready {
+    Ok(match ready {
         Some(mut p) => {
             p.settings.progress = progress == Progress::Bar;
             p
         }
         None => prepare_frame(a, progress).map_err(|e| desc.locate(e))?,
-    };
-    for note in prepared.notes.iter().filter(|n| n.shown(a.quiet)) {
+    })
+}
+
+/// Whether the scene a render draws was prepared for it, or prepared once before and
+/// re-aimed (a turntable's later frames).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Fresh {
+    /// Prepared for this image: its notes and stage times are reported.
+    Prepared,
+    /// Prepared for an earlier frame and re-aimed: neither is repeated.
+    Reaimed,
+}
+
+/// Renders `prepared` to `output` (and --exr) and reports it.
+pub(super) fn render_prepared(
+    a: &RenderArgs,
+    prepared: &Prepared,
+    output: &Path,
+    fresh: Fresh,
+    out: &mut dyn Write,
+) -> Result<()> {
+    let shown = |n: &&pipeline::Note| fresh == Fresh::Prepared && n.shown(a.quiet);
+    for note in prepared.notes.iter().filter(shown) {
         let _ = writeln!(out, "{}", note.message());
     }
-    if let Some(view) = pipeline::render_view(&prepared)? {
-        pipeline::write_view(&view, &output)?;
+    if let Some(view) = pipeline::render_view(prepared)? {
+        pipeline::write_view(&view, output)?;
         if let Some(exr) = &a.exr {
             pipeline::write_view(&view, exr)?;
         }
@@ -143,11 +181,11 @@ pub(super) fn render_one(
         return Ok(());
     }
     let t = Instant::now();
-    let result = pipeline::render(&prepared)?;
+    let result = pipeline::render(prepared)?;
     let render_time = t.elapsed();
-    pipeline::write_image(&prepared, &result, &output)?;
+    pipeline::write_image(prepared, &result, output)?;
     if let Some(exr) = &a.exr {
-        pipeline::write_image(&prepared, &result, exr)?;
+        pipeline::write_image(prepared, &result, exr)?;
     }
     if !a.quiet {
         let s = &prepared.settings;
@@ -158,15 +196,21 @@ pub(super) fn render_one(
             s.height,
             &droplets,
         );
+        let stages = match fresh {
+            Fresh::Prepared => format!(
+                "load {:.3} s, estimate {:.3} s, build {:.3} s",
+                prepared.load_time.as_secs_f64(),
+                prepared.estimate_time.as_secs_f64(),
+                prepared.build_time.as_secs_f64()
+            ),
+            Fresh::Reaimed => "prepared once, camera re-aimed".to_string(),
+        };
         let _ = writeln!(
             out,
-            "{} particles ({}){}: load {:.3} s, estimate {:.3} s, build {:.3} s; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
+            "{} particles ({}){}: {stages}; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
             prepared.particles,
             prepared.scene.geometry,
             droplet_note(prepared.droplets),
-            prepared.load_time.as_secs_f64(),
-            prepared.estimate_time.as_secs_f64(),
-            prepared.build_time.as_secs_f64(),
             s.width,
             s.height,
             s.spp,

@@ -24,6 +24,7 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     if let Some(env) = &a.env {
         environment_flag(&mut d, env)?;
     }
+    d.environment.turn_deg = a.turn_deg;
     Ok((d, base))
 }
 
@@ -98,6 +99,7 @@ fn render_flags(d: &mut SceneDesc, a: &RenderArgs) {
     over(&mut c.fov, &a.fov);
     over(&mut c.aperture, &a.aperture);
     over(&mut c.focus_distance, &a.focus_distance);
+    over(&mut c.orbit, &a.orbit);
 }
 
 /// The flags of `[output]` and the view.

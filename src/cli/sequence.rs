@@ -3,12 +3,14 @@
 //! ([`crate::pipeline::sequence`]).
 
 use super::render_args::RenderArgs;
-use super::render_one::{prepare_frame, render_one};
+use super::render_one::{Fresh, prepare_frame, ready_or_prepare, render_one, render_prepared};
 use super::render_scene::scene_from_args;
 use crate::pipeline::Prepared;
+use crate::pipeline::camera_path::FrameCamera;
 use crate::pipeline::sequence::{FrameJob, SequenceOptions, expand};
-use crate::scene::{CameraDesc, SceneDesc};
+use crate::scene::SceneDesc;
 use crate::{Error, Result};
+use std::cell::RefCell;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -20,22 +22,25 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     })?;
     let out_pattern = output.to_string_lossy().into_owned();
     let is_toml = a.scene_file()?.is_some();
+    let (scene, _) = scene_from_args(a)?;
+    let mut patterned = false;
+    for i in scene.input.paths() {
+        patterned |= expand(&i.to_string_lossy(), 0)?.is_some();
+    }
+    // A turntable: one still cloud seen from a turning camera, prepared once.
+    let still = !patterned && scene.input.sample.is_none();
+    let orbit = scene.camera.orbit.is_some_and(|d| d != 0.0) || !scene.camera.key.is_empty();
     if expand(&out_pattern, 0)?.is_none() {
         return Err(Error::invalid(format!(
             "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
         )));
     }
-    if !is_toml {
-        let mut patterned = false;
-        for i in &a.inputs {
-            patterned |= expand(&i.to_string_lossy(), 0)?.is_some();
-        }
-        if !patterned {
-            return Err(Error::invalid(format!(
-                "{}: --frames needs a frame pattern ({{}} or {{:04}}) in an input",
-                a.first_input()
-            )));
-        }
+    if !is_toml && !patterned && !orbit {
+        return Err(Error::invalid(format!(
+            "{}: --frames needs a frame pattern ({{}} or {{:04}}) in an input, or --orbit \
+             DEG for a turntable of one cloud",
+            a.first_input()
+        )));
     }
     let opts = SequenceOptions {
         frames: frames.to_vec(),
@@ -55,6 +60,8 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
         a: base,
         out_pattern,
         exr_pattern,
+        still: still && orbit,
+        kept: RefCell::new(None),
     };
     crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())
 }
@@ -67,6 +74,11 @@ struct Frames {
     out_pattern: String,
     /// `--exr`, if given (a frame pattern in it or not).
     exr_pattern: Option<String>,
+    /// A turntable: every frame draws the same cloud (no frame pattern, no generated sample)
+    /// from a moving camera, so it is prepared once and re-aimed.
+    still: bool,
+    /// A turntable's prepared cloud, kept between frames.
+    kept: RefCell<Option<Prepared>>,
 }
 
 impl Frames {
@@ -118,15 +130,38 @@ impl FrameJob for Frames {
     fn render(
         &self,
         f: u64,
-        camera: Option<&CameraDesc>,
+        camera: Option<&FrameCamera>,
         ready: Option<Prepared>,
         out: &mut dyn Write,
     ) -> Result<()> {
         let mut one = self.args(f)?;
-        if let Some(c) = camera {
+        if let Some(FrameCamera {
+            camera: c,
+            exposure,
+            turn_deg,
+        }) = camera
+        {
+            one.turn_deg = *turn_deg;
             one.camera = c.position;
             one.look_at = c.look_at;
+            (one.fov, one.aperture) = (c.fov.or(one.fov), c.aperture.or(one.aperture));
+            one.focus_distance = c.focus_distance.or(one.focus_distance);
+            one.exposure = exposure.or(one.exposure);
         }
-        render_one(&one, out, ready)
+        if !self.still {
+            return render_one(&one, out, ready);
+        }
+        let (desc, base) = scene_from_args(&one)?;
+        let mut kept = self.kept.borrow_mut();
+        let (mut prepared, fresh) = match kept.take() {
+            Some(p) => (p, Fresh::Reaimed),
+            None => (ready_or_prepare(&one, &desc, ready)?, Fresh::Prepared),
+        };
+        prepared.aim(&desc).map_err(|e| desc.locate(e))?;
+        let output = super::render_one::output_path(&one, &desc, &base);
+        crate::atomic::prepare_output(&output)?;
+        let done = render_prepared(&one, &prepared, &output, fresh, out);
+        *kept = Some(prepared);
+        done
     }
 }

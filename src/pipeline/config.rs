@@ -319,7 +319,7 @@ pub fn check_image_size(w: usize, h: usize) -> Result<()> {
 }
 
 /// `output.exposure` (default 0 EV), checked to be within -64..64 EV.
-fn exposure(o: &OutputDesc) -> Result<f32> {
+pub(super) fn exposure(o: &OutputDesc) -> Result<f32> {
     if let Some(ev) = o.exposure
         && !(ev.is_finite() && ev.abs() <= 64.0)
     {

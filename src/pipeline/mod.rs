@@ -12,6 +12,7 @@
 
 pub mod beside;
 mod build;
+pub mod camera_path;
 pub mod compare;
 pub mod config;
 mod droplets;
@@ -117,13 +118,8 @@ pub fn prepare_staged(
     droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
     staging.droplets = droplets;
     staging.liquid = liquid;
-    let shader = FilmShader::new(
-        config.film.ior,
-        config.shading,
-        config.wavelengths,
-        config.strategy,
-    );
-    Ok(Prepared {
+    let shader = film_shader(&config);
+    let mut prepared = Prepared {
         scene: Scene {
             geometry,
             camera,
@@ -134,6 +130,8 @@ pub fn prepare_staged(
         },
         framing,
         aspect,
+        turn_deg: 0.0,
+        unturned: None,
         shader,
         settings: RenderSettings {
             progress: progress == Progress::Bar,
@@ -151,7 +149,20 @@ pub fn prepare_staged(
         estimate_time: loaded.estimate_time,
         build_time,
         notes,
-    })
+    };
+    // A turntable's frame: the light turns with the camera.
+    prepared.turn_light(desc.environment.turn_deg);
+    Ok(prepared)
+}
+
+/// The film shader `config` asks for.
+fn film_shader(config: &RenderConfig) -> FilmShader {
+    FilmShader::new(
+        config.film.ior,
+        config.shading,
+        config.wavelengths,
+        config.strategy,
+    )
 }
 
 /// Build: the film geometry of the completed films (their neighbour table handed on), timed

@@ -17,6 +17,12 @@ pub struct Prepared {
     /// Width / height of the part of the image the scene fills (the image without a view's
     /// colour bar): the aspect auto-framing frames for.
     pub aspect: f32,
+    /// Degrees the environment is turned about +y (a turntable's frame; see
+    /// [`Prepared::turn_light`]).
+    pub turn_deg: f32,
+    /// The environment as prepared, before any turn (kept once it is first turned, so turning
+    /// back gives it exactly).
+    pub unturned: Option<crate::render::Environment>,
     /// The film shader.
     pub shader: FilmShader,
     /// Sampling settings.
@@ -48,6 +54,43 @@ pub struct Prepared {
 }
 
 impl Prepared {
+    /// Points this prepared scene's camera at `desc`'s `[camera]`, turns its light as `desc`
+    /// turns it (a turntable) and takes its exposure (a
+    /// turntable's next frame, a camera path's next key): the geometry stays as prepared, the
+    /// droplets' pixel footprints follow the new camera, as a fresh preparation would set them.
+    ///
+    /// # Errors
+    /// As [`super::camera`] for a bad `[camera]`; [`crate::Error::Invalid`] for a bad
+    /// exposure.
+    pub fn aim(&mut self, desc: &crate::scene::SceneDesc) -> crate::Result<()> {
+        let camera = super::camera(desc, &self.framing, self.aspect)?;
+        let height = self.settings.height;
+        let droplets = &mut self.scene.staging.droplets;
+        droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
+        self.scene.camera = camera;
+        self.turn_light(desc.environment.turn_deg);
+        self.exposure = super::config::exposure(&desc.output)?;
+        Ok(())
+    }
+
+    /// Turns the environment `deg` degrees about +y from where it was prepared (see
+    /// [`crate::render::Environment::turn`]): exactly the prepared light again at 0, whatever
+    /// turns came before. Costs a copy of the environment (a map's texels) when turned.
+    pub fn turn_light(&mut self, deg: f32) {
+        if deg == self.turn_deg {
+            return;
+        }
+        let base = self
+            .unturned
+            .get_or_insert_with(|| self.scene.environment.clone());
+        let mut env = base.clone();
+        if deg != 0.0 {
+            env.turn(deg);
+        }
+        self.scene.environment = env;
+        self.turn_deg = deg;
+    }
+
     /// Adds a note for the user.
     pub fn note(&mut self, text: impl Into<String>) {
         self.notes.push(Note::new(text));

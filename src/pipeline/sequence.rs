@@ -6,6 +6,7 @@
 //! decided once ([`super::framing::sequence_camera`]), from the frames alone, so sharded jobs
 //! agree without talking.
 
+use super::camera_path::{CameraMove, FrameCamera, path_toml};
 use super::framing::{self, Framing};
 use super::prepared::Prepared;
 use crate::scene::{CameraDesc, SceneDesc};
@@ -117,12 +118,13 @@ pub trait FrameJob {
     fn scene(&self, f: u64) -> Result<SceneDesc>;
     /// Frame `f` prepared (for measuring its framing), without a progress bar.
     fn prepare(&self, f: u64) -> Result<Prepared>;
-    /// Renders frame `f` and writes its outputs: from `camera`'s position and look-at when
-    /// given (the sequence's one camera); `ready` is the frame already prepared, if it was.
+    /// Renders frame `f` and writes its outputs: from `camera` when given (the sequence's one
+    /// camera, or this frame's on an orbit or a camera path: position, look-at, field of view,
+    /// lens and exposure); `ready` is the frame already prepared, if it was.
     fn render(
         &self,
         f: u64,
-        camera: Option<&CameraDesc>,
+        camera: Option<&FrameCamera>,
         ready: Option<Prepared>,
         out: &mut dyn Write,
     ) -> Result<()>;
@@ -169,6 +171,9 @@ pub fn render_sequence(
                 .map_err(|e| Error::invalid(format!("frame {f}: {}", Error::io(&p, e))))?;
         }
     }
+    // The camera's move, checked before anything renders.
+    let desc = job.scene(opts.frames[0])?;
+    let mv = CameraMove::of(&desc.camera).map_err(|e| desc.locate(e))?;
     check_outputs(&mine, |f| job.outputs(f))?;
     // Decided before the first frame this job renders (not at all if it renders none).
     let mut camera: Option<Option<CameraDesc>> = None;
@@ -182,14 +187,16 @@ pub fn render_sequence(
         refuse_directories(&outputs)?;
         let mut first = None;
         if camera.is_none() {
-            let decided = sequence_camera(job, opts, out)?;
+            let decided = sequence_camera(job, opts, &desc, &mv, out)?;
             camera = Some(decided.camera);
             first = decided.first.filter(|(g, _)| *g == f).map(|(_, p)| p);
         }
         if !opts.quiet {
             let _ = writeln!(out, "frame {f} ({}/{}):", n + 1, mine.len());
         }
-        match job.render(f, camera.as_ref().and_then(Option::as_ref), first, out) {
+        let start = camera.as_ref().and_then(Option::as_ref);
+        let this = start.map(|s| mv.at(s, &opts.frames, f)).transpose()?;
+        match job.render(f, this.as_ref(), first, out) {
             Ok(()) => {}
             Err(e) if opts.keep_going => {
                 let _ = writeln!(err, "filmsplat: error: frame {f}: {e}");
@@ -312,23 +319,34 @@ struct SequenceCamera {
     first: Option<(u64, Prepared)>,
 }
 
-/// The camera every frame of a sequence is rendered from: `None` if the scene names a camera
-/// position (it wins); else auto-framed once, on the first frame of the whole sequence, or
-/// with `frame_all` on the union of every frame's bounds, so every job of a farm picks the
-/// same camera. Prints it as `[camera]` lines (unless quiet). Also returns the first frame's
-/// prepared scene when it was prepared whole (not with `frame_all`), for the caller to render
-/// instead of preparing it again.
+/// The camera a sequence starts from (every frame's, unless `mv` moves it): `None` if the
+/// scene names a camera position and the camera stays (it wins); the scene's camera if it
+/// names one and `mv` turns it; else auto-framed once, on the first frame of the whole
+/// sequence, or with `frame_all` on the union of every frame's bounds, so every job of a farm
+/// picks the same camera. Prints it as `[camera]` lines, or the path `mv` takes from it
+/// (unless quiet). Also returns the first frame's prepared scene when it was prepared whole
+/// (not with `frame_all`), for the caller to render instead of preparing it again.
 fn sequence_camera(
     job: &dyn FrameJob,
     opts: &SequenceOptions,
+    desc: &SceneDesc,
+    mv: &CameraMove,
     out: &mut dyn Write,
 ) -> Result<SequenceCamera> {
     let frames = &opts.frames;
     let first = frames[0];
-    let desc = job.scene(first)?;
-    if desc.camera.position.is_some() {
+    let keyed_all = matches!(mv, CameraMove::Keys(_)) && !mv.needs_framing();
+    if desc.camera.position.is_some() || keyed_all {
+        let camera = (*mv != CameraMove::Fixed).then(|| desc.camera.clone());
+        if let Some(c) = camera.as_ref().filter(|_| !opts.quiet) {
+            let _ = writeln!(
+                out,
+                "camera path (paste into a scene file to keep it):\n{}",
+                path_toml(c, mv).trim_end()
+            );
+        }
         return Ok(SequenceCamera {
-            camera: None,
+            camera,
             first: None,
         });
     }
@@ -349,10 +367,14 @@ fn sequence_camera(
         }
     }
     let framing = Framing::union_all(&framings).expect("at least one frame");
-    let camera = framing::sequence_camera(&desc, &framing, aspect)?;
+    let camera = framing::sequence_camera(desc, &framing, aspect)?;
     if let Some(c) = &camera
         && !opts.quiet
     {
+        let (what, lines) = match mv {
+            CameraMove::Fixed => ("camera for every frame", framing::camera_toml(c)),
+            _ => ("camera path", path_toml(c, mv)),
+        };
         let on = if opts.frame_all {
             format!(
                 "the bounds of all {} frames ({}..={}, --frame-all)",
@@ -365,8 +387,8 @@ fn sequence_camera(
         };
         let _ = writeln!(
             out,
-            "camera for every frame, auto-framed on {on} (paste into a scene file to keep it):\n{}",
-            framing::camera_toml(c).trim_end()
+            "{what}, auto-framed on {on} (paste into a scene file to keep it):\n{}",
+            lines.trim_end()
         );
     }
     Ok(SequenceCamera {

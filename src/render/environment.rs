@@ -282,6 +282,28 @@ impl Environment {
     }
 }
 
+impl Environment {
+    /// Turns the light `deg` degrees about +y, counter-clockwise seen from above (as a camera
+    /// orbit turns its position), so a camera turned with it sees the scene as if the scene
+    /// itself had turned the other way in a fixed studio: a turntable. The studio's ground
+    /// and soft boxes turn; a map's rotation grows; a uniform light is unchanged.
+    pub fn turn(&mut self, deg: f32) {
+        let q = glam::Quat::from_rotation_y(deg.to_radians());
+        match self {
+            Environment::Uniform(_) => {}
+            Environment::Hemispheres { axis, .. } => *axis = q * *axis,
+            Environment::Studio(s) => {
+                s.view = q * s.view;
+                for b in &mut s.boxes {
+                    b.dir = q * b.dir;
+                }
+            }
+            // radiance(d) looks up phi(d) - rotation; turning by +deg moves phi by -deg.
+            Environment::Map(m) => m.rotation -= deg.to_radians(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

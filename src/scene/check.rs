@@ -32,8 +32,14 @@ pub(super) fn bad_float(table: &toml::Table) -> Option<(Vec<String>, f64)> {
 /// array indices after the key are ignored) is set in `text`: the line `key = ...` inside the
 /// table `[camera]`, or the `n`-th `[[light]]`. `None` if not found (e.g. an inline table).
 pub fn key_line(text: &str, key: &[&str]) -> Option<usize> {
+    let nested;
     let (table, rest): (Vec<&str>, &[&str]) = match key {
         [t, i, rest @ ..] if i.parse::<usize>().is_ok() => (vec![t, i], rest),
+        // `[[camera.key]]`: an array of tables inside a table.
+        [t, sub, i, rest @ ..] if i.parse::<usize>().is_ok() => {
+            nested = format!("{t}.{sub}");
+            (vec![nested.as_str(), i], rest)
+        }
         [t, rest @ ..] if !rest.is_empty() => (vec![t], rest),
         _ => (vec![], key),
     };
@@ -74,6 +80,10 @@ mod tests {
         assert_eq!(key_line(text, &["light", "0", "radius"]), Some(5));
         assert_eq!(key_line(text, &["camera", "fov"]), Some(2));
         assert_eq!(key_line(text, &["camera", "aperture"]), None);
+        let keys =
+            "[camera]\nfov = 30\n[[camera.key]]\nframe = 0\n[[camera.key]]\nframe = 9\nfov = nan\n";
+        assert_eq!(key_line(keys, &["camera", "key", "1", "fov"]), Some(7));
+        assert_eq!(key_line(keys, &["camera", "fov"]), Some(2));
         let ok: toml::Table = "a = 1.5\nb = [1e38]\n".parse().unwrap();
         assert!(bad_float(&ok).is_none());
         let big: toml::Table = "[film]\nior = 1e39\n".parse().unwrap();

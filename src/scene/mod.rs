@@ -3,8 +3,10 @@
 //! Paths are relative to the scene file. The keys are documented in `samples/README.md`.
 
 mod check;
+mod keys;
 
 pub use check::key_line;
+pub use keys::{CameraKey, check_keys};
 
 use serde::Deserialize;
 use std::path::PathBuf;
@@ -186,7 +188,7 @@ pub struct FilmDesc {
 }
 
 /// `[camera]`: either explicit (`position` and `look_at`) or auto-framed from `from`.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
     /// Eye position, scene units.
@@ -204,6 +206,13 @@ pub struct CameraDesc {
     /// Distance in focus, scene units (default: the distance to `look_at` or the cloud's
     /// centre).
     pub focus_distance: Option<f32>,
+    /// Degrees the camera turns about `up` over a sequence, around its look-at point: frame i
+    /// of N is turned by orbit·i/N (so 360 loops without a repeated frame). Default 0.
+    pub orbit: Option<f32>,
+    /// `[[camera.key]]`: a sequence's camera path, in increasing frame order (see
+    /// [`CameraKey`]).
+    #[serde(default)]
+    pub key: Vec<CameraKey>,
 }
 
 /// `[environment]`: the light.
@@ -220,6 +229,10 @@ pub struct EnvironmentDesc {
     pub rotation: Option<f32>,
     /// Multiplier on the environment's radiance (default 1).
     pub intensity: Option<f32>,
+    /// Degrees the light is turned about +y with an orbiting camera (a turntable's frame: see
+    /// [`crate::render::Environment::turn`]); set by a sequence, not a scene-file key.
+    #[serde(skip)]
+    pub turn_deg: f32,
 }
 
 /// `[render]`: sampling and shading.
@@ -341,6 +354,12 @@ impl SceneDesc {
         for p in &mut desc.prop {
             p.line = line_of(p.shape.span().start);
         }
+        keys::number_lines(&mut desc.camera.key, text);
+        check_keys(&desc.camera.key).map_err(|m| crate::Error::Format {
+            path: name.into(),
+            format: "scene TOML",
+            message: m,
+        })?;
         Ok(desc)
     }
 }

@@ -207,18 +207,37 @@ impl App {
                 "application/json",
                 self.scene_json.as_str(),
             )),
-            "/api/camera" => params::camera(req).map(|c| {
-                Response::new(
-                    200,
-                    "text/plain; charset=utf-8",
-                    engine::camera_lines(&self.first, &c),
-                )
-            }),
+            "/api/camera" => self.camera_lines(req),
             "/api/render" => self.picture(req, peer, false),
             "/api/save" => self.picture(req, peer, true),
             _ => Err((404, format!("no such page: {}", req.path))),
         };
         result.unwrap_or_else(|(status, message)| Response::error(status, &message))
+    }
+
+    /// The scene-file lines of the page's camera: `[camera]` lines, or with `frame` (the
+    /// index of a numbered frame) a camera path's key at that frame's number
+    /// (`[[camera.key]]`).
+    fn camera_lines(&self, req: &Request) -> Result<Response, (u16, String)> {
+        let c = params::camera(req)?;
+        let text = match req.param("frame") {
+            None => engine::camera_lines(&self.first, &c),
+            Some(i) => {
+                let number = i
+                    .parse::<usize>()
+                    .ok()
+                    .and_then(|i| self.labels.get(i))
+                    .and_then(|l| l.parse::<u64>().ok())
+                    .ok_or_else(|| {
+                        (
+                            400,
+                            format!("frame: '{i}' is not the index of a numbered frame"),
+                        )
+                    })?;
+                engine::key_lines(&self.first, &c, number)
+            }
+        };
+        Ok(Response::new(200, "text/plain; charset=utf-8", text))
     }
 
     /// A picture (`save`: the full-quality download).

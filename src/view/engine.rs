@@ -149,6 +149,22 @@ pub fn camera_lines(desc: &SceneDesc, cam: &ViewCamera) -> String {
     s
 }
 
+/// The `[[camera.key]]` lines of a camera path's key that holds `cam` at frame `frame`
+/// (position, look-at, field of view, and the scene's lens if it has one); the path's keys
+/// must all give the same optional keys, as copying them from here does.
+pub fn key_lines(desc: &SceneDesc, cam: &ViewCamera, frame: u64) -> String {
+    let key = crate::scene::CameraKey {
+        frame,
+        position: cam.position,
+        look_at: Some(cam.look_at),
+        fov: Some(cam.fov),
+        aperture: desc.camera.aperture,
+        focus_distance: desc.camera.focus_distance,
+        ..Default::default()
+    };
+    crate::pipeline::camera_path::key_toml(&key)
+}
+
 /// Film crossings followed while the camera moves: the front and the back wall of a bubble
 /// (at most 2; the preview preset follows 4). Depth dominates the cost of a small picture: on
 /// the bubble at 240×135, 2 crossings took 0.05 s where 4 took 0.12 s, and the picture only

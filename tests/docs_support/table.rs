@@ -34,6 +34,23 @@ const SMALL: &str = "--size 64x48 --spp 1";
 
 /// Each documented command and how it is run.
 pub const TABLE: &[(&str, How)] = &[
+    // sequences: turntables and camera paths
+    (
+        "filmsplat render tests/data/melp/foam3/50 --frames 0..120 --orbit 360 -o 'turn/{:04}.png'",
+        Instead(
+            "filmsplat render tests/data/melp/foam3/50 --frames 0..3 --orbit 360 -o turn/{:04}.png --size 64x48 --spp 1",
+        ),
+    ),
+    (
+        "filmsplat render 'frames/frame_{:04}.ply' --frames 0..3 --orbit 30 -o 'spin/{:04}.png'",
+        Small,
+    ),
+    (
+        "filmsplat render path.toml --frames 0..48 -o 'path/{:04}.png'",
+        Instead(
+            "filmsplat render path.toml --frames 22..26 -o path/{:04}.png --size 64x48 --spp 1",
+        ),
+    ),
     // README: set-up and install
     (
         "cargo run --release -- render samples/bubble.toml -o bubble.png",

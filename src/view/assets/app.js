@@ -243,6 +243,8 @@ function setStatus(text) {
 async function copyCamera() {
   const c = camera();
   const p = new URLSearchParams({ token: TOKEN, pos: c.position.join(','), look: c.look_at.join(','), up: c.up.join(','), fov: c.fov });
+  // A sequence: the lines of a camera path's key at the frame shown.
+  if (st.scene && st.scene.frames.length > 1 && /^\d+$/.test(label())) p.set('frame', st.frame);
   const r = await fetch('/api/camera?' + p);
   const text = await r.text();
   if (!r.ok) { showError(`${r.status}: ${text.trim()}`); return; }
