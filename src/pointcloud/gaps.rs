@@ -313,15 +313,7 @@ fn fan(
     if near.len() < 2 {
         return Fit::Isolated(nearest);
     }
-    // The two shortest offsets (as the first two of them sorted).
-    let (mut d0, mut d1) = (f32::INFINITY, f32::INFINITY);
-    for l in near.iter().map(|q| q.length()) {
-        if l < d0 {
-            (d0, d1) = (l, d0);
-        } else if l < d1 {
-            d1 = l;
-        }
-    }
+    let (d0, d1) = two_shortest(near);
     let reach = EDGE_REACH * 0.5 * (d0 + d1);
     // The film i's neighbours span around it, and i's share of it.
     hull_with_origin_into(near, &mut s.cell, &mut s.hull);
@@ -362,6 +354,20 @@ fn fan(
         edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || most < r.max(need),
     }
+}
+
+/// The two smallest lengths of `near`, shortest first (the first two of them sorted; ∞ for
+/// none).
+fn two_shortest(near: &[Vec2]) -> (f32, f32) {
+    let (mut d0, mut d1) = (f32::INFINITY, f32::INFINITY);
+    for l in near.iter().map(|q| q.length()) {
+        if l < d0 {
+            (d0, d1) = (l, d0);
+        } else if l < d1 {
+            d1 = l;
+        }
+    }
+    (d0, d1)
 }
 
 /// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
