@@ -7,25 +7,62 @@
 
 use glam::Vec2;
 
+/// Reusable buffers for one particle's polygons, so a fit over a million particles allocates
+/// once a worker instead of some thirty times a particle. The `_into` functions below compute
+/// exactly what their allocating namesakes do, operation for operation.
+#[derive(Debug, Default)]
+pub struct CellScratch {
+    /// The polygon being clipped, then the result.
+    pub poly: Vec<Vec2>,
+    /// The other half of the double buffer.
+    spare: Vec<Vec2>,
+    /// Points being hulled.
+    pts: Vec<Vec2>,
+}
+
 /// The vertices of the cell {x : |x| ≤ |x − q| for every q in `near`} ∩ [−half, half]²: the
 /// square clipped by the half-planes x·q ≤ |q|²/2 (Sutherland–Hodgman on a convex polygon).
 /// Cost: O(|near| × vertices).
 pub fn voronoi_cell(near: &[Vec2], half: f32) -> Vec<Vec2> {
-    let poly = vec![
+    let mut s = CellScratch::default();
+    voronoi_cell_into(near, half, &mut s);
+    s.poly
+}
+
+/// [`voronoi_cell`] into `s.poly`. A neighbour farther than twice the cell's farthest vertex
+/// (with a margin far above rounding) has every vertex strictly inside its half-plane, where
+/// the clip returns the polygon unchanged: it is passed over, which gives the same vertices
+/// (the clip would copy them) in O(1) instead of O(vertices).
+pub fn voronoi_cell_into(near: &[Vec2], half: f32, s: &mut CellScratch) {
+    s.poly.clear();
+    s.poly.extend([
         Vec2::new(-half, -half),
         Vec2::new(half, -half),
         Vec2::new(half, half),
         Vec2::new(-half, half),
-    ];
-    near.iter().fold(poly, |poly, q| {
-        let lim = 0.5 * q.length_squared();
-        clip(&poly, |x| x.dot(*q) - lim)
-    })
+    ]);
+    let mut reach2 = farthest_squared(&s.poly);
+    for q in near {
+        let q2 = q.length_squared();
+        // |x| ≤ √reach2 and |q| ≥ 2.01 √reach2 ⇒ x·q ≤ |q|²/2.01 < |q|²/2 − rounding.
+        if q2 > 4.05 * reach2 {
+            continue;
+        }
+        let lim = 0.5 * q2;
+        clip_into(&s.poly, |x| x.dot(*q) - lim, &mut s.spare);
+        std::mem::swap(&mut s.poly, &mut s.spare);
+        reach2 = farthest_squared(&s.poly);
+    }
 }
 
-/// `poly` (convex) cut to where `side(x) ≤ 0` (`side` affine).
-fn clip(poly: &[Vec2], side: impl Fn(Vec2) -> f32) -> Vec<Vec2> {
-    let mut next = Vec::with_capacity(poly.len() + 2);
+/// The largest |x|² over `poly` (0 for none).
+fn farthest_squared(poly: &[Vec2]) -> f32 {
+    poly.iter().map(|x| x.length_squared()).fold(0.0, f32::max)
+}
+
+/// `poly` (convex) cut to where `side(x) ≤ 0` (`side` affine), into `next` (cleared first).
+fn clip_into(poly: &[Vec2], side: impl Fn(Vec2) -> f32, next: &mut Vec<Vec2>) {
+    next.clear();
     for k in 0..poly.len() {
         let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
         let (sa, sb) = (side(a), side(b));
@@ -36,52 +73,68 @@ fn clip(poly: &[Vec2], side: impl Fn(Vec2) -> f32) -> Vec<Vec2> {
             next.push(a + (b - a) * (sa / (sa - sb)));
         }
     }
-    next
 }
 
 /// The convex hull of the origin and `near`, counter-clockwise, collinear points dropped
 /// (Andrew's monotone chain). Fewer than 3 vertices when every point is on one line.
 pub fn hull_with_origin(near: &[Vec2]) -> Vec<Vec2> {
-    let mut pts: Vec<Vec2> = near.iter().copied().chain([Vec2::ZERO]).collect();
-    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    let mut s = CellScratch::default();
+    let mut hull = Vec::new();
+    hull_with_origin_into(near, &mut s, &mut hull);
+    hull
+}
+
+/// [`hull_with_origin`] into `hull`, with `s` for the sorted points. (Points equal under the
+/// sort's order are the same bits, so the unstable sort orders them as a stable one would.)
+pub fn hull_with_origin_into(near: &[Vec2], s: &mut CellScratch, hull: &mut Vec<Vec2>) {
+    let pts = &mut s.pts;
+    pts.clear();
+    pts.extend(near.iter().copied().chain([Vec2::ZERO]));
+    pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     pts.dedup();
+    hull.clear();
     if pts.len() < 3 {
-        return pts;
+        hull.extend_from_slice(pts);
+        return;
     }
     let cross = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp_dot(b - o);
-    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * pts.len());
-    for pass in [false, true] {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Vec2>> = if pass {
-            Box::new(pts.iter().rev())
-        } else {
-            Box::new(pts.iter())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2
-                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
+    let chain = |hull: &mut Vec<Vec2>, start: usize, p: Vec2| {
+        while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+        {
+            hull.pop();
         }
-        hull.pop();
+        hull.push(p);
+    };
+    for &p in pts.iter() {
+        chain(hull, 0, p);
     }
-    hull
+    hull.pop();
+    let start = hull.len();
+    for &p in pts.iter().rev() {
+        chain(hull, start, p);
+    }
+    hull.pop();
 }
 
 /// `cell` (convex) cut to the convex polygon `hull` (counter-clockwise, ≥ 3 vertices).
 pub fn clip_to_hull(cell: &[Vec2], hull: &[Vec2]) -> Vec<Vec2> {
-    let mut poly = cell.to_vec();
+    let mut s = CellScratch::default();
+    s.poly.extend_from_slice(cell);
+    clip_to_hull_into(hull, &mut s);
+    s.poly
+}
+
+/// [`clip_to_hull`] of `s.poly`, in place.
+pub fn clip_to_hull_into(hull: &[Vec2], s: &mut CellScratch) {
     for k in 0..hull.len() {
         let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
         // Inside is to the left of a → b.
-        poly = clip(&poly, |x| -(b - a).perp_dot(x - a));
-        if poly.is_empty() {
+        clip_into(&s.poly, |x| -(b - a).perp_dot(x - a), &mut s.spare);
+        std::mem::swap(&mut s.poly, &mut s.spare);
+        if s.poly.is_empty() {
             break;
         }
     }
-    poly
 }
 
 /// Distance from the origin to the boundary of the convex polygon `hull` (counter-clockwise,
@@ -160,6 +213,94 @@ mod tests {
         // One side open: the cell reaches the clipping square there.
         let cell = voronoi_cell(&[Vec2::X, Vec2::Y, -Vec2::Y], 10.0);
         assert!(cell.iter().any(|c| c.x <= -9.99));
+    }
+
+    /// Random neighbourhoods, 3 to 64 points, some far beyond the cell.
+    fn random_neighbourhoods() -> impl Iterator<Item = Vec<Vec2>> {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        (0..3000).map(move |case| {
+            let n = 3 + case % 62;
+            let spread = 0.5 + 4.0 * next();
+            (0..n)
+                .map(|_| spread * Vec2::new(next() - 0.5, next() - 0.5))
+                .filter(|q| *q != Vec2::ZERO)
+                .collect()
+        })
+    }
+
+    #[test]
+    fn passing_over_far_neighbours_gives_the_clipped_cell_bit_for_bit() {
+        // Oracle: the square clipped by every neighbour's half-plane, none passed over.
+        let mut passed = 0;
+        for near in random_neighbourhoods() {
+            let half = 2.5;
+            let mut s = CellScratch::default();
+            s.poly.extend([
+                Vec2::new(-half, -half),
+                Vec2::new(half, -half),
+                Vec2::new(half, half),
+                Vec2::new(-half, half),
+            ]);
+            for q in &near {
+                let lim = 0.5 * q.length_squared();
+                clip_into(&s.poly, |x| x.dot(*q) - lim, &mut s.spare);
+                std::mem::swap(&mut s.poly, &mut s.spare);
+            }
+            let fast = voronoi_cell(&near, half);
+            let bits = |c: &[Vec2]| {
+                c.iter()
+                    .map(|v| v.to_array().map(f32::to_bits))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&fast), bits(&s.poly), "{near:?}");
+            let reach = farthest_squared(&fast);
+            passed += near
+                .iter()
+                .filter(|q| q.length_squared() > 4.05 * reach)
+                .count();
+        }
+        // The shortcut is taken (else this test would not test it).
+        assert!(passed > 10_000, "{passed}");
+    }
+
+    #[test]
+    fn the_reused_buffers_give_the_allocating_hull_and_clip() {
+        // One scratch carried from neighbourhood to neighbourhood, as a fit's worker does.
+        let mut s = CellScratch::default();
+        let mut hull = Vec::new();
+        for near in random_neighbourhoods() {
+            hull_with_origin_into(&near, &mut s, &mut hull);
+            // Andrew's monotone chain written out again with fresh vectors and a stable sort.
+            let mut pts: Vec<Vec2> = near.iter().copied().chain([Vec2::ZERO]).collect();
+            pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+            pts.dedup();
+            let mut want: Vec<Vec2> = Vec::new();
+            for pass in [pts.clone(), pts.iter().rev().copied().collect()] {
+                let start = want.len();
+                for p in pass {
+                    while want.len() >= start + 2
+                        && (want[want.len() - 1] - want[want.len() - 2])
+                            .perp_dot(p - want[want.len() - 2])
+                            <= 0.0
+                    {
+                        want.pop();
+                    }
+                    want.push(p);
+                }
+                want.pop();
+            }
+            assert_eq!(hull, want, "{near:?}");
+            voronoi_cell_into(&near, 2.5, &mut s);
+            let cell = s.poly.clone();
+            clip_to_hull_into(&hull, &mut s);
+            assert_eq!(s.poly, clip_to_hull(&cell, &hull));
+        }
     }
 
     #[test]

@@ -42,7 +42,10 @@ use rayon::prelude::*;
 pub use super::area::{
     AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
 };
-use super::cell::{clip_to_hull, depth_in_hull, hull_with_origin, rim_midpoints, voronoi_cell};
+use super::cell::{
+    CellScratch, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
+    voronoi_cell_into,
+};
 use super::estimate::median_positive;
 use super::knn::{KnnTable, PointIndex};
 
@@ -174,14 +177,14 @@ pub fn fit_radii_owned(
     let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
     let cap = MAX_GROWTH * median;
     let longest = LONG_EDGE * median_kth_distance(index, positions, SPACING_RANK);
-    let fit = |i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
-        fan(i, positions, normals, radii[i].min(cap), longest, row)
+    let fit = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
+        fan(i, positions, normals, radii[i].min(cap), longest, row, s)
     };
     let fits: Vec<Fit> = match table {
         Some(t) => (0..n)
             .into_par_iter()
             .with_min_len(512)
-            .map(|i| fit(i, &mut t.row(i)))
+            .map_init(FanScratch::default, |s, i| fit(s, i, &mut t.row(i)))
             .collect(),
         None => {
             let mut fits = Vec::with_capacity(n);
@@ -191,7 +194,7 @@ pub fn fit_radii_owned(
                 fits.par_extend(
                     rows.into_par_iter()
                         .with_min_len(512)
-                        .map(|i| fit(i, &mut t.row(i - start))),
+                        .map_init(FanScratch::default, |s, i| fit(s, i, &mut t.row(i - start))),
                 );
             }
             fits
@@ -204,11 +207,11 @@ pub fn fit_radii_owned(
         .into_par_iter()
         .enumerate()
         .with_min_len(512)
-        .map(|(i, f)| match f {
+        .map_init(FanScratch::default, |s, (i, f)| match f {
             Fit::Sheet { bounded: false, .. } => f,
             _ => {
                 let row = index.nearest_excluding(positions[i], WIDE_NEIGHBOURS, i as u32);
-                fit(i, &mut row.into_iter())
+                fit(s, i, &mut row.into_iter())
             }
         })
         .collect();
@@ -265,8 +268,17 @@ fn median_kth_distance(index: &PointIndex, positions: &[Vec3], k: usize) -> f32 
     median_positive(d.collect::<Vec<f32>>().into_iter()).unwrap_or(0.0)
 }
 
+/// One worker's buffers for [`fan`] (reused particle after particle: no allocation a fan).
+#[derive(Debug, Default)]
+struct FanScratch {
+    row: Vec<(u32, f32)>,
+    near: Vec<Vec2>,
+    hull: Vec<Vec2>,
+    cell: CellScratch,
+}
+
 /// The fan of particle `i` with radius `r`: `longest`, the half-side of the square its cell is
-/// clipped to; `row`, its neighbours, nearest first.
+/// clipped to; `row`, its neighbours, nearest first; `s`, buffers.
 fn fan(
     i: usize,
     positions: &[Vec3],
@@ -274,6 +286,7 @@ fn fan(
     r: f32,
     longest: f32,
     row: &mut dyn Iterator<Item = (u32, f32)>,
+    s: &mut FanScratch,
 ) -> Fit {
     let (p, nrm) = (positions[i], normals[i]);
     if !(p.is_finite() && nrm.is_finite())
@@ -290,19 +303,21 @@ fn fan(
     }
     // Where the film thins, its particles spread: the reach of a neighbourhood follows the
     // local spacing (the distance to the SPACING_RANK-th neighbour) where that is the larger.
-    let row: Vec<(u32, f32)> = row.collect();
-    let local = row.get(SPACING_RANK - 1).map_or(0.0, |r| LONG_EDGE * r.1);
+    s.row.clear();
+    s.row.extend(row);
+    let local = s.row.get(SPACING_RANK - 1).map_or(0.0, |r| LONG_EDGE * r.1);
     let longest = longest.max(local);
     let open = OPEN_FRACTION * longest;
-    let (near, nearest) = sheet_neighbours(p, nrm, positions, normals, open, &mut row.into_iter());
+    let nearest = sheet_neighbours(p, nrm, (positions, normals), open, &s.row, &mut s.near);
+    let near = &s.near;
     if near.len() < 2 {
         return Fit::Isolated(nearest);
     }
-    let mut d: Vec<f32> = near.iter().map(|q| q.length()).collect();
-    d.sort_by(f32::total_cmp);
-    let reach = EDGE_REACH * 0.5 * (d[0] + d[1]);
+    let (d0, d1) = two_shortest(near);
+    let reach = EDGE_REACH * 0.5 * (d0 + d1);
     // The film i's neighbours span around it, and i's share of it.
-    let hull = hull_with_origin(&near);
+    hull_with_origin_into(near, &mut s.cell, &mut s.hull);
+    let hull = &s.hull;
     if hull.len() < 3 {
         // A strand of particles in a line: no area to cover, half a spacing about each.
         return Fit::Sheet {
@@ -312,7 +327,7 @@ fn fan(
             bounded: true,
         };
     }
-    let (depth, row) = depth_in_hull(&hull);
+    let (depth, row) = depth_in_hull(hull);
     // On the hull, i reaches half the shorter of the hull's edges beside it, past the last
     // row; the film between two edge particles is closed by the particle one row in. Inside,
     // i reaches at most half a spacing of that row (or its own) past the nearest hull edge.
@@ -326,11 +341,12 @@ fn fan(
         }
         _ => reach.min(EDGE_REACH * row),
     };
-    let cell = voronoi_cell(&near, longest);
+    voronoi_cell_into(near, longest, &mut s.cell);
     let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
-    let whole = farthest(&cell);
-    let far = farthest(&clip_to_hull(&cell, &hull));
-    let rim = rim_midpoints(&near, &hull);
+    let whole = farthest(&s.cell.poly);
+    clip_to_hull_into(hull, &mut s.cell);
+    let far = farthest(&s.cell.poly);
+    let rim = rim_midpoints(near, hull);
     let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
     Fit::Sheet {
         need,
@@ -340,22 +356,36 @@ fn fan(
     }
 }
 
+/// The two smallest lengths of `near`, shortest first (the first two of them sorted; ∞ for
+/// none).
+fn two_shortest(near: &[Vec2]) -> (f32, f32) {
+    let (mut d0, mut d1) = (f32::INFINITY, f32::INFINITY);
+    for l in near.iter().map(|q| q.length()) {
+        if l < d0 {
+            (d0, d1) = (l, d0);
+        } else if l < d1 {
+            d1 = l;
+        }
+    }
+    (d0, d1)
+}
+
 /// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
 /// within 60°, not farther off its tangent plane than along it), nearer than `open`, as
-/// offsets in its tangent plane; and the distance to the nearest particle of `row` (∞ for
-/// none).
+/// offsets in its tangent plane, into `near`; returns the distance to the nearest particle of
+/// `row` (∞ for none).
 fn sheet_neighbours(
     p: Vec3,
     nrm: Vec3,
-    positions: &[Vec3],
-    normals: &[Vec3],
+    (positions, normals): (&[Vec3], &[Vec3]),
     open: f32,
-    row: &mut dyn Iterator<Item = (u32, f32)>,
-) -> (Vec<Vec2>, f32) {
+    row: &[(u32, f32)],
+    near: &mut Vec<Vec2>,
+) -> f32 {
     let (u, v) = nrm.any_orthonormal_pair();
-    let mut near: Vec<Vec2> = Vec::with_capacity(FAN_NEIGHBOURS);
+    near.clear();
     let mut nearest = f32::INFINITY;
-    for (j, d) in row {
+    for &(j, d) in row {
         let (q, nj) = (positions[j as usize], normals[j as usize]);
         let off = q - p;
         let flat = Vec2::new(off.dot(u), off.dot(v));
@@ -369,7 +399,7 @@ fn sheet_neighbours(
         }
         near.push(flat);
     }
-    (near, nearest)
+    nearest
 }
 
 #[cfg(test)]
