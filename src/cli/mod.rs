@@ -8,6 +8,7 @@ mod convert;
 mod film;
 mod glob;
 mod info;
+mod movie;
 mod parse;
 mod render;
 mod render_args;

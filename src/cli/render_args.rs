@@ -202,6 +202,18 @@ pub struct RenderArgs {
     /// failed), instead of stopping at the first.
     #[arg(long)]
     pub(super) keep_going: bool,
+    /// Frames per second of the sequence: a movie output (-o movie.mp4) plays at this rate,
+    /// and a generated sample's clock (`[input] sample`) moves 1/FPS seconds a frame. Default
+    /// 24. Frames read from files are not resampled: their simulation time step is theirs.
+    #[arg(long, value_parser = fps_arg)]
+    pub(super) fps: Option<f64>,
+    /// Movie quality, the codec's constant rate factor: lower is better and larger (H.264
+    /// 0..=51, default 18, visually lossless; VP9 0..=63, default 31).
+    #[arg(long, value_parser = super::parse::int_in::<u32>(0, 63))]
+    pub(super) crf: Option<u32>,
+    /// The frame is rendered for a movie: no image file is written (set by the movie loop).
+    #[arg(skip)]
+    pub(super) in_memory: bool,
     /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
     /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
     /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
@@ -240,6 +252,17 @@ impl RenderArgs {
             found => Ok(found),
         }
     }
+}
+
+/// clap value parser for `--fps`: a number in (0, 1000].
+pub(super) fn fps_arg(s: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number of frames per second"))?;
+    crate::image::video::check_fps(v)
+        .map(|()| v)
+        .map_err(|_| format!("'{s}': frames per second must be a number in (0, 1000]"))
 }
 
 fn attribute_help() -> String {

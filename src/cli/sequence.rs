@@ -3,12 +3,14 @@
 //! ([`crate::pipeline::sequence`]).
 
 use super::render_args::RenderArgs;
-use super::render_one::{prepare_frame, render_one};
+use super::render_one::{Target, prepare_frame, render_frame, render_one};
 use super::render_scene::scene_from_args;
+use crate::image::video::VideoWriter;
 use crate::pipeline::Prepared;
 use crate::pipeline::sequence::{FrameJob, SequenceOptions, expand};
 use crate::scene::{CameraDesc, SceneDesc};
 use crate::{Error, Result};
+use std::cell::RefCell;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -18,11 +20,19 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let output = a.output.as_ref().ok_or_else(|| {
         Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
     })?;
+    let movie = super::movie::movie_of(a, output)?;
     let out_pattern = output.to_string_lossy().into_owned();
     let is_toml = a.scene_file()?.is_some();
-    if expand(&out_pattern, 0)?.is_none() {
+    if movie.is_none() && expand(&out_pattern, 0)?.is_none() {
+        crate::pipeline::check_extension(output).map_err(|_| {
+            Error::invalid(format!(
+                "{out_pattern}: -o must be images with a frame pattern ('out/{{:04}}.png' or \
+                 .exr) or a movie (.mp4, .webm)"
+            ))
+        })?;
         return Err(Error::invalid(format!(
-            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
+            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o, or a \
+             movie (-o movie.mp4)"
         )));
     }
     if !is_toml {
@@ -53,26 +63,34 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let exr_pattern = a.exr.as_ref().map(|e| e.to_string_lossy().into_owned());
     let job = Frames {
         a: base,
-        out_pattern,
+        out_pattern: movie.is_none().then_some(out_pattern),
         exr_pattern,
+        movie: None,
     };
-    crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())
+    match movie {
+        Some(m) => m.render(job, &opts, out),
+        None => {
+            crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())
+        }
+    }
 }
 
 /// The frames of one `render --frames` command line.
-struct Frames {
+pub(super) struct Frames {
     /// The command line's arguments without its frame list.
     a: RenderArgs,
-    /// `-o`, with its frame pattern.
-    out_pattern: String,
+    /// `-o`, with its frame pattern; `None` for a movie (its frames write no image).
+    out_pattern: Option<String>,
     /// `--exr`, if given (a frame pattern in it or not).
     exr_pattern: Option<String>,
+    /// The movie the frames go into, if -o names one (set by [`super::movie::Movie::render`]).
+    pub(super) movie: Option<RefCell<VideoWriter>>,
 }
 
 impl Frames {
     /// The arguments of frame `f`: its outputs and seed (the seed plus the frame number); each
     /// input's pattern is expanded for `frame` by [`scene_from_args`].
-    fn args(&self, f: u64) -> Result<RenderArgs> {
+    pub(super) fn args(&self, f: u64) -> Result<RenderArgs> {
         let mut one = self.a.clone();
         one.frame = Some(f);
         let [output, exr] = self.output_paths(f)?;
@@ -83,12 +101,26 @@ impl Frames {
 
     /// Frame `f`'s image and EXR paths, from the patterns alone (no copy of the arguments).
     fn output_paths(&self, f: u64) -> Result<[Option<PathBuf>; 2]> {
-        let output = expand(&self.out_pattern, f)?.expect("checked");
+        let output = match &self.out_pattern {
+            Some(o) => Some(expand(o, f)?.expect("checked")),
+            None => None,
+        };
         let exr = match &self.exr_pattern {
             Some(e) => Some(expand(e, f)?.unwrap_or_else(|| e.clone())),
             None => None,
         };
-        Ok([Some(PathBuf::from(output)), exr.map(PathBuf::from)])
+        Ok([output.map(PathBuf::from), exr.map(PathBuf::from)])
+    }
+
+    /// Renders frame `one` (its arguments, camera set): to its files, or into the movie.
+    fn write(&self, one: &RenderArgs, out: &mut dyn Write, ready: Option<Prepared>) -> Result<()> {
+        let Some(movie) = &self.movie else {
+            return render_one(one, out, ready);
+        };
+        let mut one = one.clone();
+        one.in_memory = true;
+        let px = render_frame(&one, out, ready, Target::Pixels)?.expect("pixels asked for");
+        movie.borrow_mut().push(px.width, px.height, &px.data)
     }
 }
 
@@ -127,6 +159,6 @@ impl FrameJob for Frames {
             one.camera = c.position;
             one.look_at = c.look_at;
         }
-        render_one(&one, out, ready)
+        self.write(&one, out, ready)
     }
 }
