@@ -205,7 +205,7 @@ pub struct RenderArgs {
     /// Frames per second of the sequence: a movie output (-o movie.mp4) plays at this rate,
     /// and a generated sample's clock (`[input] sample`) moves 1/FPS seconds a frame. Default
     /// 24. Frames read from files are not resampled: their simulation time step is theirs.
-    #[arg(long, value_parser = fps_arg)]
+    #[arg(long, value_parser = fps_arg, allow_hyphen_values = true)]
     pub(super) fps: Option<f64>,
     /// Movie quality, the codec's constant rate factor: lower is better and larger (H.264
     /// 0..=51, default 18, visually lossless; VP9 0..=63, default 31).
