@@ -5,11 +5,10 @@
 //! ffmpeg ([`crate::image::video`]), never written to disk.
 
 use super::render_args::RenderArgs;
-use super::sequence::Frames;
 use crate::image::video::{self, Container, VideoSettings, VideoWriter};
-use crate::pipeline::sequence::{SequenceOptions, expand, render_sequence};
+use crate::pipeline::sequence::expand;
+use crate::scene::SceneDesc;
 use crate::{Error, Result};
-use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -93,29 +92,31 @@ pub(super) fn check_movie_output(output: &Path) -> Result<()> {
 }
 
 impl Movie {
-    /// Renders the sequence `job` into the movie: ffmpeg starts before the first frame (its
-    /// size from the first frame's scene, refused if odd), each frame is piped to it, and
-    /// the movie is renamed into place when every frame is in. On any error the movie's
-    /// temporary is removed and ffmpeg stopped.
+    /// Starts ffmpeg for the frames of `desc` (the sequence's first frame's scene: its image
+    /// size, refused if odd). The sequence then pushes each frame into the writer; dropping it
+    /// unfinished removes the movie's temporary and stops ffmpeg.
     ///
     /// # Errors
-    /// The sequence's, or the writer's ([`VideoWriter`]).
-    pub(super) fn render(
+    /// [`Error::Invalid`] for an odd size; the writer's ([`VideoWriter::create`]).
+    pub(super) fn start(&self, desc: &SceneDesc) -> Result<VideoWriter> {
+        let size = crate::pipeline::config::image_size(desc);
+        video::check_video_size(size.0, size.1)?;
+        VideoWriter::create(&self.ffmpeg, &self.path, size, &self.settings)
+    }
+
+    /// Closes the movie (renamed into place) and says what was written on `out`.
+    ///
+    /// # Errors
+    /// The writer's ([`VideoWriter::finish`]).
+    pub(super) fn finish(
         &self,
-        mut job: Frames,
-        opts: &SequenceOptions,
+        writer: VideoWriter,
+        quiet: bool,
         out: &mut dyn Write,
     ) -> Result<()> {
-        use crate::pipeline::sequence::FrameJob;
-        let desc = job.scene(opts.frames[0])?;
-        let size = crate::pipeline::config::image_size(&desc);
-        video::check_video_size(size.0, size.1)?;
-        let writer = VideoWriter::create(&self.ffmpeg, &self.path, size, &self.settings)?;
-        job.movie = Some(RefCell::new(writer));
-        render_sequence(&job, opts, out, &mut std::io::stderr())?;
-        let writer = job.movie.take().expect("set above").into_inner();
+        let size = writer.size();
         let frames = writer.finish()?;
-        if !opts.quiet {
+        if !quiet {
             let _ = writeln!(out, "{}", self.summary(frames, size));
         }
         Ok(())

@@ -67,30 +67,40 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
         exr_pattern,
         movie: None,
     };
-    match movie {
-        Some(m) => m.render(job, &opts, out),
-        None => {
-            crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())
-        }
-    }
+    let Some(m) = movie else {
+        return crate::pipeline::sequence::render_sequence(
+            &job,
+            &opts,
+            out,
+            &mut std::io::stderr(),
+        );
+    };
+    // Into the movie: ffmpeg starts before the first frame; on an error the writer is dropped
+    // unfinished, which removes the movie's temporary.
+    let writer = m.start(&job.scene(frames[0])?)?;
+    let mut job = job;
+    job.movie = Some(RefCell::new(writer));
+    crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())?;
+    let writer = job.movie.take().expect("set above").into_inner();
+    m.finish(writer, opts.quiet, out)
 }
 
 /// The frames of one `render --frames` command line.
-pub(super) struct Frames {
+struct Frames {
     /// The command line's arguments without its frame list.
     a: RenderArgs,
     /// `-o`, with its frame pattern; `None` for a movie (its frames write no image).
     out_pattern: Option<String>,
     /// `--exr`, if given (a frame pattern in it or not).
     exr_pattern: Option<String>,
-    /// The movie the frames go into, if -o names one (set by [`super::movie::Movie::render`]).
-    pub(super) movie: Option<RefCell<VideoWriter>>,
+    /// The movie the frames go into, if -o names one.
+    movie: Option<RefCell<VideoWriter>>,
 }
 
 impl Frames {
     /// The arguments of frame `f`: its outputs and seed (the seed plus the frame number); each
     /// input's pattern is expanded for `frame` by [`scene_from_args`].
-    pub(super) fn args(&self, f: u64) -> Result<RenderArgs> {
+    fn args(&self, f: u64) -> Result<RenderArgs> {
         let mut one = self.a.clone();
         one.frame = Some(f);
         let [output, exr] = self.output_paths(f)?;

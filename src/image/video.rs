@@ -262,6 +262,11 @@ impl VideoWriter {
         self.frames
     }
 
+    /// The frames' size, (width, height) pixels.
+    pub fn size(&self) -> (usize, usize) {
+        self.size
+    }
+
     /// Appends one frame: `width`×`height` packed sRGB RGB8 pixels, top row first (the bytes
     /// of its PNG).
     ///
