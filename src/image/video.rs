@@ -140,10 +140,10 @@ pub fn check_fps(fps: f64) -> Result<()> {
 /// # Errors
 /// [`Error::Invalid`] naming the size and the nearest even sizes.
 pub fn check_video_size(width: usize, height: usize) -> Result<()> {
-    if width % 2 == 0 && height % 2 == 0 {
+    if width.is_multiple_of(2) && height.is_multiple_of(2) {
         return Ok(());
     }
-    let even = |v: usize| if v % 2 == 0 { v } else { v + 1 };
+    let even = |v: usize| v + v % 2;
     Err(Error::invalid(format!(
         "size {width}x{height}: a movie needs an even width and height (yuv420p halves the \
          colour resolution); render at --size {}x{}",
