@@ -410,3 +410,59 @@ fn failures_leave_no_movie() {
     );
     assert!(!dir.join("m.mp4").exists());
 }
+
+/// Ctrl-C (SIGINT to filmsplat alone; ffmpeg then sees its input end) or SIGKILL mid-movie
+/// leaves no movie under the name, and the next run removes the killed run's temporary.
+#[test]
+fn an_interrupted_movie_leaves_no_movie_and_the_next_run_cleans_up() {
+    need_ffmpeg();
+    let dir = scene("video-interrupted");
+    let mut args = vec!["render", "osc.toml", "--frames", "0..400", "-o", "m.mp4"];
+    args.extend(["--size", "32x24", "--spp", "1"]);
+    for signal in ["-INT", "-KILL"] {
+        let mut child = Command::new(BIN)
+            .args(&args)
+            .current_dir(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait for the third frame to start: ffmpeg is running and has frames.
+        let stderr = child.stderr.take().unwrap();
+        let mut lines = std::io::BufRead::lines(std::io::BufReader::new(stderr));
+        assert!(
+            lines.any(|l| l.is_ok_and(|l| l.starts_with("frame 2 (3/400)"))),
+            "the movie never reached frame 2"
+        );
+        let ok = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(ok.success());
+        let status = child.wait().unwrap();
+        assert!(!status.success(), "{signal}: {status}");
+        // ffmpeg finishes its temporary when its input ends; give it a moment.
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        assert!(!dir.join("m.mp4").exists(), "{signal} left the movie");
+    }
+    let temps = || {
+        std::fs::read_dir(&dir)
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .contains("m.mp4.tmp-")
+            })
+            .count()
+    };
+    eprintln!("temporaries after the interrupted runs: {}", temps());
+    let mut short = args.clone();
+    short[3] = "0..2";
+    short.push("-q");
+    let (code, _, stderr) = run_in(&dir, &short, None);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(dir.join("m.mp4").exists());
+    assert_eq!(temps(), 0, "the killed runs' temporaries are removed");
+}
