@@ -341,6 +341,23 @@ fn bad_input_is_refused_in_one_line_before_any_frame() {
         None,
         "--exr needs image files",
     );
+    let still = ["render", "osc.toml", "-o", "m.png", "--crf", "20"];
+    refused(
+        &dir,
+        &still,
+        None,
+        "--crf is a flag of sequences and movies",
+    );
+    let still = ["render", "osc.toml", "-o", "m.png", "--fps", "30"];
+    refused(
+        &dir,
+        &still,
+        None,
+        "--fps is a flag of sequences and movies",
+    );
+    let mut images = seq(&["--crf", "20"]);
+    images[5] = "o/{}.png";
+    refused(&dir, &images, None, "--crf sets a movie's quality");
     let single = ["render", "osc.toml", "-o", "m.mp4"];
     refused(
         &dir,

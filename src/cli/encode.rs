@@ -16,9 +16,9 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Args)]
 pub struct EncodeArgs {
     /// The frames: PNG images named by a frame pattern, {} or {:04} (zero-padded), e.g.
-    /// 'out/{:04}.png', as `render --frames` writes them. Without --frames, every file of the
-    /// folder the pattern names is a frame, and the frames from the lowest number to the
-    /// highest must all be there.
+    /// 'out/{:04}.png', as `render --frames` writes them. Without --frames, the frames are the
+    /// files of the pattern's folder whose names it gives, and every number from the lowest to
+    /// the highest must be there.
     input: PathBuf,
     /// The movie: .mp4 (H.264, yuv420p, +faststart) or .webm (VP9). Written to a temporary
     /// beside it and renamed when complete.

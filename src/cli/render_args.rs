@@ -19,8 +19,9 @@ pub struct RenderArgs {
     pub(super) inputs: Vec<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
     /// hit-count layers); `-` writes the PNG to standard output; `{stem}` is the input's file
-    /// stem (with a quoted glob input, each match's). Default: the scene file's output.path,
-    /// else render.png.
+    /// stem (with a quoted glob input, each match's). With --frames, a movie: .mp4 (H.264,
+    /// yuv420p) or .webm (VP9), the frames piped to the system's ffmpeg (see --fps, --crf).
+    /// Default: the scene file's output.path, else render.png.
     #[arg(short, long)]
     pub(super) output: Option<PathBuf>,
     /// Also write the linear EXR with all layers to this path.
@@ -174,8 +175,8 @@ pub struct RenderArgs {
     pub(super) repair: bool,
     /// Render a sequence: frame numbers A..B (B excluded) or A..=B. The input (or the scene's
     /// input.cloud) and the output contain a frame pattern, {} or {:04} (zero-padded), e.g.
-    /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`. Each frame's seed
-    /// is the seed plus the frame number.
+    /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`, or straight into
+    /// a movie with `-o movie.mp4`. Each frame's seed is the seed plus the frame number.
     #[arg(long, value_parser = super::parse::frame_list)]
     pub(super) frames: Option<super::parse::FrameList>,
     /// Render only every N-th frame of --frames (or match of a quoted glob), starting at the
