@@ -83,7 +83,7 @@ pub fn temp_prefix(name: &str) -> String {
 }
 
 /// `dir/.name.tmp-PID-START-N` for target `dir/name` (see [`temp_prefix`]).
-fn temp_path(path: &Path) -> Result<PathBuf> {
+pub(crate) fn temp_path(path: &Path) -> Result<PathBuf> {
     let name = path
         .file_name()
         .ok_or_else(|| Error::invalid(format!("{}: not a file name", path.display())))?;
@@ -213,7 +213,7 @@ pub fn remove_dead_temps(path: &Path) -> usize {
 }
 
 /// Makes the rename durable by syncing the directory (best effort; not possible on all systems).
-fn sync_parent(path: &Path) {
+pub(crate) fn sync_parent(path: &Path) {
     #[cfg(unix)]
     {
         let dir = match path.parent() {

@@ -36,6 +36,7 @@ __all__ = [
     "compare",
     "film",
     "film_rgb",
+    "movie",
     "orbit",
     "read",
 ]
@@ -421,6 +422,48 @@ def cli(*args: Union[str, "os.PathLike[str]"]) -> str:
     """Runs the ``filmsplat`` command line in this process (``cli("info", "frame.ply")``)
     and returns what it printed; errors raise as everywhere else. Releases the GIL."""
     return _native.run_cli([os.fspath(a) for a in args])
+
+
+def _frame_range(frames: Union[str, range, Tuple[int, int]]) -> str:
+    """``--frames`` text for ``"0..48"``, ``range(0, 48)`` or ``(0, 48)`` (end excluded)."""
+    if isinstance(frames, str):
+        return frames
+    if isinstance(frames, range):
+        if frames.step != 1:
+            raise ValueError(f"movie: frames {frames} must have step 1")
+        return f"{frames.start}..{frames.stop}"
+    if isinstance(frames, (tuple, list)) and len(frames) == 2:
+        return f"{int(frames[0])}..{int(frames[1])}"
+    raise ValueError(f"movie: frames must be 'A..B', range(A, B) or (A, B), got {frames!r}")
+
+
+def movie(
+    input: Union[str, "os.PathLike[str]"],
+    output: Union[str, "os.PathLike[str]"] = "movie.mp4",
+    frames: Union[str, range, Tuple[int, int]] = "0..24",
+    fps: Optional[float] = None,
+    crf: Optional[int] = None,
+    progress: bool = True,
+    **options: Any,
+) -> str:
+    """Renders a sequence straight into a movie, in one call: ``filmsplat render INPUT
+    --frames A..B -o OUTPUT``. ``input`` is a frame pattern (``"frames/{:04}.ply"``) or a
+    scene file (a generated sample moves 1/fps s a frame); ``output`` a ``.mp4`` (H.264,
+    yuv420p) or ``.webm`` (VP9), written whole or not at all; ``fps`` its frame rate (24),
+    ``crf`` its quality (lower is better: H.264 18, VP9 31). ``options`` are the render flags
+    by name, passed through (``size=(640, 360)``, ``preset="preview"``, ``frame_all=True``,
+    and any flag the CLI takes, such as a camera move). Needs ``ffmpeg`` on PATH. Progress: a
+    line per frame on stderr, as the CLI prints it (``progress=False``: none). Returns the
+    movie's path."""
+    args = ["render", os.fspath(input), "-o", os.fspath(output), "--frames", _frame_range(frames)]
+    if fps is not None:
+        args += ["--fps", str(fps)]
+    if crf is not None:
+        args += ["--crf", str(int(crf))]
+    if not progress:
+        args.append("--quiet")
+    cli(*args, *_flags(options))
+    return os.fspath(output)
 
 
 def compare(

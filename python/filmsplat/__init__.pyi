@@ -143,6 +143,17 @@ def compare(
 ) -> dict[str, Any]:
     """The metrics dict of ``filmsplat compare A B INPUT --json``."""
 
+def movie(
+    input: _Path,
+    output: _Path = "movie.mp4",
+    frames: Union[str, range, Tuple[int, int]] = "0..24",
+    fps: Optional[float] = None,
+    crf: Optional[int] = None,
+    progress: bool = True,
+    **options: Any,
+) -> str:
+    """Renders a sequence into a movie (.mp4 H.264 or .webm VP9) with ffmpeg; returns its path."""
+
 def cli(*args: _Path) -> str:
     """Runs the filmsplat command line in-process; returns its stdout."""
 

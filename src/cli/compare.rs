@@ -152,6 +152,7 @@ fn checked(a: &CompareArgs) -> Result<(MeshOptions, PathBuf)> {
         (r.resume, "--resume"),
         (r.keep_going, "--keep-going"),
         (r.max_memory.is_some(), "--max-memory"),
+        (r.crf.is_some(), "--crf"),
     ] {
         if given {
             return Err(Error::invalid(format!(

@@ -5,9 +5,11 @@ mod attributes;
 mod chart;
 mod compare;
 mod convert;
+mod encode;
 mod film;
 mod glob;
 mod info;
+mod movie;
 mod parse;
 mod render;
 mod render_args;
@@ -64,6 +66,9 @@ enum Command {
     /// Measure the temporal stability of a rendered sequence (mean CIEDE2000 between adjacent
     /// frames where the depth changes little).
     Stability(stability::StabilityArgs),
+    /// Join rendered frames ('out/{:04}.png', e.g. of a sharded or resumed render) into a
+    /// movie (.mp4 H.264 or .webm VP9) with the system's ffmpeg.
+    Encode(encode::EncodeArgs),
     /// Preview interactively in a browser: serves a page on this machine (URL with an access
     /// token printed) where you orbit, zoom, scrub frames and switch views; takes the inputs
     /// and flags of `render`.
@@ -123,6 +128,7 @@ where
         Command::Compare(a) => compare::run(&a, out, err),
         Command::Stability(a) => stability::run(&a, out),
         Command::View(a) => view::run(&a, out, err),
+        Command::Encode(a) => encode::run(&a, err),
     }
 }
 

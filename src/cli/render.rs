@@ -11,6 +11,27 @@ use std::path::{Path, PathBuf};
 
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    if a.frames.is_none() {
+        for (given, flag) in [(a.fps.is_some(), "--fps"), (a.crf.is_some(), "--crf")] {
+            if given {
+                return Err(Error::invalid(format!(
+                    "{flag} is a flag of sequences and movies: give --frames (e.g. --frames \
+                     0..48 -o movie.mp4)"
+                )));
+            }
+        }
+    }
+    if let Some(o) = &a.output
+        && a.frames.is_none()
+        && crate::image::video::Container::of(o).is_some()
+    {
+        return Err(Error::invalid(format!(
+            "{}: a movie is made of a sequence: give --frames with a frame pattern in the \
+             input (e.g. 'frames/{{:04}}.ply' --frames 0..48), or join images with \
+             `filmsplat encode`",
+            o.display()
+        )));
+    }
     if let [only] = a.inputs.as_slice()
         && a.frames.is_none()
         && glob::is_glob(only)

@@ -19,8 +19,9 @@ pub struct RenderArgs {
     pub(super) inputs: Vec<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
     /// hit-count layers); `-` writes the PNG to standard output; `{stem}` is the input's file
-    /// stem (with a quoted glob input, each match's). Default: the scene file's output.path,
-    /// else render.png.
+    /// stem (with a quoted glob input, each match's). With --frames, a movie: .mp4 (H.264,
+    /// yuv420p) or .webm (VP9), the frames piped to the system's ffmpeg (see --fps, --crf).
+    /// Default: the scene file's output.path, else render.png.
     #[arg(short, long)]
     pub(super) output: Option<PathBuf>,
     /// Also write the linear EXR with all layers to this path.
@@ -174,8 +175,8 @@ pub struct RenderArgs {
     pub(super) repair: bool,
     /// Render a sequence: frame numbers A..B (B excluded) or A..=B. The input (or the scene's
     /// input.cloud) and the output contain a frame pattern, {} or {:04} (zero-padded), e.g.
-    /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`. Each frame's seed
-    /// is the seed plus the frame number.
+    /// `render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240`, or straight into
+    /// a movie with `-o movie.mp4`. Each frame's seed is the seed plus the frame number.
     #[arg(long, value_parser = super::parse::frame_list)]
     pub(super) frames: Option<super::parse::FrameList>,
     /// Turn the camera DEG degrees about the scene's up axis (camera.up, default +y) over the
@@ -213,6 +214,18 @@ pub struct RenderArgs {
     /// failed), instead of stopping at the first.
     #[arg(long)]
     pub(super) keep_going: bool,
+    /// Frames per second of the sequence: a movie output (-o movie.mp4) plays at this rate,
+    /// and a generated sample's clock (`[input] sample`) moves 1/FPS seconds a frame. Default
+    /// 24. Frames read from files are not resampled: their simulation time step is theirs.
+    #[arg(long, value_parser = fps_arg, allow_hyphen_values = true)]
+    pub(super) fps: Option<f64>,
+    /// Movie quality, the codec's constant rate factor: lower is better and larger (H.264
+    /// 0..=51, default 18, visually lossless; VP9 0..=63, default 31).
+    #[arg(long, value_parser = super::parse::int_in::<u32>(0, 63))]
+    pub(super) crf: Option<u32>,
+    /// The frame is rendered for a movie: no image file is written (set by the movie loop).
+    #[arg(skip)]
+    pub(super) in_memory: bool,
     /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
     /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
     /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
@@ -251,6 +264,17 @@ impl RenderArgs {
             found => Ok(found),
         }
     }
+}
+
+/// clap value parser for `--fps`: a number in (0, 1000].
+pub(super) fn fps_arg(s: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number of frames per second"))?;
+    crate::image::video::check_fps(v)
+        .map(|()| v)
+        .map_err(|_| format!("'{s}': frames per second must be a number in (0, 1000]"))
 }
 
 fn attribute_help() -> String {

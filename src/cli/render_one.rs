@@ -4,6 +4,7 @@
 use super::glob;
 use super::render_args::RenderArgs;
 use super::render_scene::scene_from_args;
+use crate::image::Srgb8Image;
 use crate::pipeline;
 use crate::pipeline::{Prepared, Progress, memory};
 use crate::scene::SceneDesc;
@@ -65,7 +66,12 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
 pub(super) fn prepare_frame(a: &RenderArgs, progress: Progress) -> Result<Prepared> {
     let (desc, base) = scene_from_args(a)?;
     let output = output_path(a, &desc, &base);
-    let outputs: Vec<&PathBuf> = std::iter::once(&output).chain(a.exr.as_ref()).collect();
+    // A movie's frame writes no file of its own (`--exr` is refused with a movie).
+    let outputs: Vec<&PathBuf> = if a.in_memory {
+        Vec::new()
+    } else {
+        std::iter::once(&output).chain(a.exr.as_ref()).collect()
+    };
     for p in &outputs {
         pipeline::check_extension(p)?;
     }
@@ -104,6 +110,25 @@ pub(super) fn progress_of(a: &RenderArgs) -> Progress {
     }
 }
 
+/// Where a rendered frame goes.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Target<'a> {
+    /// Its image file (and `--exr`, if given).
+    File(&'a Path),
+    /// Its 8-bit sRGB pixels, returned (for a movie); no file is written.
+    Pixels,
+}
+
+impl Target<'_> {
+    /// What the summary line says was written.
+    fn label(&self) -> String {
+        match self {
+            Target::File(p) => p.display().to_string(),
+            Target::Pixels => "the frame to the movie".into(),
+        }
+    }
+}
+
 /// Renders one image; `ready` is its scene if the caller already prepared it.
 pub(super) fn render_one(
     a: &RenderArgs,
@@ -123,7 +148,7 @@ pub(super) fn render_one(
         );
     }
     let prepared = ready_or_prepare(a, &desc, ready)?;
-    render_prepared(a, &prepared, &output, Fresh::Prepared, out)
+    render_prepared(a, &prepared, Target::File(&output), Fresh::Prepared, out).map(|_| ())
 }
 
 /// `ready` with this render's progress setting, or the frame prepared now.
@@ -152,73 +177,92 @@ pub(super) enum Fresh {
     Reaimed,
 }
 
-/// Renders `prepared` to `output` (and --exr) and reports it.
+/// Renders `prepared` to `target` (its file and --exr: returns `None`; or its pixels: `Some`)
+/// and reports it.
 pub(super) fn render_prepared(
     a: &RenderArgs,
     prepared: &Prepared,
-    output: &Path,
+    target: Target<'_>,
     fresh: Fresh,
     out: &mut dyn Write,
-) -> Result<()> {
+) -> Result<Option<Srgb8Image>> {
     let shown = |n: &&pipeline::Note| fresh == Fresh::Prepared && n.shown(a.quiet);
     for note in prepared.notes.iter().filter(shown) {
         let _ = writeln!(out, "{}", note.message());
     }
     if let Some(view) = pipeline::render_view(prepared)? {
-        pipeline::write_view(&view, output)?;
-        if let Some(exr) = &a.exr {
-            pipeline::write_view(&view, exr)?;
-        }
+        let pixels = match target {
+            Target::File(output) => {
+                pipeline::write_view(&view, output)?;
+                if let Some(exr) = &a.exr {
+                    pipeline::write_view(&view, exr)?;
+                }
+                None
+            }
+            Target::Pixels => Some(pipeline::view_srgb8(&view)?),
+        };
         if !a.quiet {
-            let _ = writeln!(
-                out,
-                "{} particles: {} view; wrote {}",
-                prepared.particles,
-                prepared.view,
-                output.display()
-            );
+            let (n, v, to) = (prepared.particles, prepared.view, target.label());
+            let _ = writeln!(out, "{n} particles: {v} view; wrote {to}");
         }
-        return Ok(());
+        return Ok(pixels);
     }
     let t = Instant::now();
     let result = pipeline::render(prepared)?;
     let render_time = t.elapsed();
-    pipeline::write_image(prepared, &result, output)?;
-    if let Some(exr) = &a.exr {
-        pipeline::write_image(prepared, &result, exr)?;
-    }
+    let pixels = match target {
+        Target::File(output) => {
+            pipeline::write_image(prepared, &result, output)?;
+            if let Some(exr) = &a.exr {
+                pipeline::write_image(prepared, &result, exr)?;
+            }
+            None
+        }
+        Target::Pixels => Some(pipeline::image_srgb8(prepared, &result)?),
+    };
     if !a.quiet {
-        let s = &prepared.settings;
-        let droplets: Vec<bool> = result.droplets.iter().map(|c| *c > 0.0).collect();
-        let front = crate::image::pinholes::missing_front_layer_besides(
-            &result.depth,
-            s.width,
-            s.height,
-            &droplets,
-        );
-        let stages = match fresh {
-            Fresh::Prepared => format!(
-                "load {:.3} s, estimate {:.3} s, build {:.3} s",
-                prepared.load_time.as_secs_f64(),
-                prepared.estimate_time.as_secs_f64(),
-                prepared.build_time.as_secs_f64()
-            ),
-            Fresh::Reaimed => "prepared once, camera re-aimed".to_string(),
-        };
-        let _ = writeln!(
-            out,
-            "{} particles ({}){}: {stages}; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
-            prepared.particles,
-            prepared.scene.geometry,
-            droplet_note(prepared.droplets),
-            s.width,
-            s.height,
-            s.spp,
-            render_time.as_secs_f64(),
-            result.rays as f64 / render_time.as_secs_f64() / 1e6,
-            front.percent(),
-            output.display()
-        );
+        let line = summary(prepared, &result, render_time, fresh, &target.label());
+        let _ = writeln!(out, "{line}");
     }
-    Ok(())
+    Ok(pixels)
+}
+
+/// The summary line of a shaded render: counts, stage times, speed, the missing front layer.
+fn summary(
+    prepared: &Prepared,
+    result: &crate::render::RenderOutput,
+    render_time: std::time::Duration,
+    fresh: Fresh,
+    wrote: &str,
+) -> String {
+    let s = &prepared.settings;
+    let droplets: Vec<bool> = result.droplets.iter().map(|c| *c > 0.0).collect();
+    let front = crate::image::pinholes::missing_front_layer_besides(
+        &result.depth,
+        s.width,
+        s.height,
+        &droplets,
+    );
+    let stages = match fresh {
+        Fresh::Prepared => format!(
+            "load {:.3} s, estimate {:.3} s, build {:.3} s",
+            prepared.load_time.as_secs_f64(),
+            prepared.estimate_time.as_secs_f64(),
+            prepared.build_time.as_secs_f64()
+        ),
+        Fresh::Reaimed => "prepared once, camera re-aimed".to_string(),
+    };
+    format!(
+        "{} particles ({}){}: {stages}; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
+        prepared.particles,
+        prepared.scene.geometry,
+        droplet_note(prepared.droplets),
+        s.width,
+        s.height,
+        s.spp,
+        render_time.as_secs_f64(),
+        result.rays as f64 / render_time.as_secs_f64() / 1e6,
+        front.percent(),
+        wrote
+    )
 }

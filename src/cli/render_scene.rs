@@ -19,7 +19,8 @@ pub(super) fn scene_from_args(a: &RenderArgs) -> Result<(SceneDesc, PathBuf)> {
     render_flags(&mut d, a);
     view_flags(&mut d, a);
     if let Some(f) = a.frame {
-        crate::pipeline::sequence::at_frame(&mut d, f, super::sample::FPS)?;
+        let fps = a.fps.map_or(super::sample::FPS, |v| v as f32);
+        crate::pipeline::sequence::at_frame(&mut d, f, fps)?;
     }
     if let Some(env) = &a.env {
         environment_flag(&mut d, env)?;

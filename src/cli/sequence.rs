@@ -3,8 +3,11 @@
 //! ([`crate::pipeline::sequence`]).
 
 use super::render_args::RenderArgs;
-use super::render_one::{Fresh, prepare_frame, ready_or_prepare, render_one, render_prepared};
+use super::render_one::{
+    Fresh, Target, output_path, prepare_frame, ready_or_prepare, render_one, render_prepared,
+};
 use super::render_scene::scene_from_args;
+use crate::image::video::VideoWriter;
 use crate::pipeline::Prepared;
 use crate::pipeline::camera_path::FrameCamera;
 use crate::pipeline::sequence::{FrameJob, SequenceOptions, expand};
@@ -20,28 +23,9 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let output = a.output.as_ref().ok_or_else(|| {
         Error::invalid("--frames needs -o with a frame pattern, e.g. -o 'out/{:04}.png'")
     })?;
+    let movie = super::movie::movie_of(a, output)?;
     let out_pattern = output.to_string_lossy().into_owned();
-    let is_toml = a.scene_file()?.is_some();
-    let (scene, _) = scene_from_args(a)?;
-    let mut patterned = false;
-    for i in scene.input.paths() {
-        patterned |= expand(&i.to_string_lossy(), 0)?.is_some();
-    }
-    // A turntable: one still cloud seen from a turning camera, prepared once.
-    let still = !patterned && scene.input.sample.is_none();
-    let orbit = scene.camera.orbit.is_some_and(|d| d != 0.0) || !scene.camera.key.is_empty();
-    if expand(&out_pattern, 0)?.is_none() {
-        return Err(Error::invalid(format!(
-            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o"
-        )));
-    }
-    if !is_toml && !patterned && !orbit {
-        return Err(Error::invalid(format!(
-            "{}: --frames needs a frame pattern ({{}} or {{:04}}) in an input, or --orbit \
-             DEG for a turntable of one cloud",
-            a.first_input()
-        )));
-    }
+    let still = check_patterns(a, output, movie.is_some())?;
     let opts = SequenceOptions {
         frames: frames.to_vec(),
         shard: a.shard,
@@ -58,20 +42,71 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let exr_pattern = a.exr.as_ref().map(|e| e.to_string_lossy().into_owned());
     let job = Frames {
         a: base,
-        out_pattern,
+        out_pattern: movie.is_none().then_some(out_pattern),
         exr_pattern,
-        still: still && orbit,
+        still,
         kept: RefCell::new(None),
+        movie: None,
     };
-    crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())
+    let Some(m) = movie else {
+        return crate::pipeline::sequence::render_sequence(
+            &job,
+            &opts,
+            out,
+            &mut std::io::stderr(),
+        );
+    };
+    // Into the movie: ffmpeg starts before the first frame; on an error the writer is dropped
+    // unfinished, which removes the movie's temporary.
+    let writer = m.start(&job.scene(frames[0])?)?;
+    let mut job = job;
+    job.movie = Some(RefCell::new(writer));
+    crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())?;
+    let writer = job.movie.take().expect("set above").into_inner();
+    m.finish(writer, opts.quiet, out)
+}
+
+/// Checks the sequence's patterns: -o names images with a frame pattern or a movie; an input
+/// has a frame pattern, or the camera moves (an orbit or keys) over one still cloud. Returns
+/// whether it is such a turntable (one cloud, prepared once and re-aimed).
+fn check_patterns(a: &RenderArgs, output: &std::path::Path, movie: bool) -> Result<bool> {
+    let out_pattern = output.to_string_lossy();
+    if !movie && expand(&out_pattern, 0)?.is_none() {
+        crate::pipeline::check_extension(output).map_err(|_| {
+            Error::invalid(format!(
+                "{out_pattern}: -o must be images with a frame pattern ('out/{{:04}}.png' or \
+                 .exr) or a movie (.mp4, .webm)"
+            ))
+        })?;
+        return Err(Error::invalid(format!(
+            "{out_pattern}: --frames needs a frame pattern ({{}} or {{:04}}) in -o, or a \
+             movie (-o movie.mp4)"
+        )));
+    }
+    let is_toml = a.scene_file()?.is_some();
+    let (scene, _) = scene_from_args(a)?;
+    let mut patterned = false;
+    for i in scene.input.paths() {
+        patterned |= expand(&i.to_string_lossy(), 0)?.is_some();
+    }
+    let still = !patterned && scene.input.sample.is_none();
+    let orbit = scene.camera.orbit.is_some_and(|d| d != 0.0) || !scene.camera.key.is_empty();
+    if !is_toml && !patterned && !orbit {
+        return Err(Error::invalid(format!(
+            "{}: --frames needs a frame pattern ({{}} or {{:04}}) in an input, or --orbit \
+             DEG for a turntable of one cloud",
+            a.first_input()
+        )));
+    }
+    Ok(still && orbit)
 }
 
 /// The frames of one `render --frames` command line.
 struct Frames {
     /// The command line's arguments without its frame list.
     a: RenderArgs,
-    /// `-o`, with its frame pattern.
-    out_pattern: String,
+    /// `-o`, with its frame pattern; `None` for a movie (its frames write no image).
+    out_pattern: Option<String>,
     /// `--exr`, if given (a frame pattern in it or not).
     exr_pattern: Option<String>,
     /// A turntable: every frame draws the same cloud (no frame pattern, no generated sample)
@@ -79,6 +114,8 @@ struct Frames {
     still: bool,
     /// A turntable's prepared cloud, kept between frames.
     kept: RefCell<Option<Prepared>>,
+    /// The movie the frames go into, if -o names one.
+    movie: Option<RefCell<VideoWriter>>,
 }
 
 impl Frames {
@@ -95,12 +132,50 @@ impl Frames {
 
     /// Frame `f`'s image and EXR paths, from the patterns alone (no copy of the arguments).
     fn output_paths(&self, f: u64) -> Result<[Option<PathBuf>; 2]> {
-        let output = expand(&self.out_pattern, f)?.expect("checked");
+        let output = match &self.out_pattern {
+            Some(o) => Some(expand(o, f)?.expect("checked")),
+            None => None,
+        };
         let exr = match &self.exr_pattern {
             Some(e) => Some(expand(e, f)?.unwrap_or_else(|| e.clone())),
             None => None,
         };
-        Ok([Some(PathBuf::from(output)), exr.map(PathBuf::from)])
+        Ok([output.map(PathBuf::from), exr.map(PathBuf::from)])
+    }
+
+    /// Renders frame `one` (its arguments, camera set): to its files, or into the movie; a
+    /// turntable's frames draw the cloud prepared for the first one, re-aimed.
+    fn write(&self, one: &RenderArgs, out: &mut dyn Write, ready: Option<Prepared>) -> Result<()> {
+        if !self.still && self.movie.is_none() {
+            return render_one(one, out, ready);
+        }
+        let mut one = one.clone();
+        one.in_memory = self.movie.is_some();
+        let (desc, base) = scene_from_args(&one)?;
+        let mut kept = self.kept.borrow_mut();
+        let (mut prepared, fresh) = match kept.take() {
+            Some(p) => (p, Fresh::Reaimed),
+            None => (ready_or_prepare(&one, &desc, ready)?, Fresh::Prepared),
+        };
+        if self.still {
+            prepared.aim(&desc).map_err(|e| desc.locate(e))?;
+        }
+        let output = output_path(&one, &desc, &base);
+        let target = match &self.movie {
+            Some(_) => Target::Pixels,
+            None => {
+                crate::atomic::prepare_output(&output)?;
+                Target::File(&output)
+            }
+        };
+        let done = render_prepared(&one, &prepared, target, fresh, out);
+        if self.still {
+            *kept = Some(prepared);
+        }
+        match (done?, &self.movie) {
+            (Some(px), Some(movie)) => movie.borrow_mut().push(px.width, px.height, &px.data),
+            _ => Ok(()),
+        }
     }
 }
 
@@ -148,20 +223,6 @@ impl FrameJob for Frames {
             one.focus_distance = c.focus_distance.or(one.focus_distance);
             one.exposure = exposure.or(one.exposure);
         }
-        if !self.still {
-            return render_one(&one, out, ready);
-        }
-        let (desc, base) = scene_from_args(&one)?;
-        let mut kept = self.kept.borrow_mut();
-        let (mut prepared, fresh) = match kept.take() {
-            Some(p) => (p, Fresh::Reaimed),
-            None => (ready_or_prepare(&one, &desc, ready)?, Fresh::Prepared),
-        };
-        prepared.aim(&desc).map_err(|e| desc.locate(e))?;
-        let output = super::render_one::output_path(&one, &desc, &base);
-        crate::atomic::prepare_output(&output)?;
-        let done = render_prepared(&one, &prepared, &output, fresh, out);
-        *kept = Some(prepared);
-        done
+        self.write(&one, out, ready)
     }
 }

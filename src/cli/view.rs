@@ -87,6 +87,7 @@ fn refuse_render_only(a: &RenderArgs) -> Result<()> {
         (a.resume, "--resume"),
         (a.keep_going, "--keep-going"),
         (a.frame_all, "--frame-all"),
+        (a.crf.is_some(), "--crf"),
     ];
     if let Some((_, flag)) = given.iter().find(|(g, _)| *g) {
         return Err(Error::invalid(format!(

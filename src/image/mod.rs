@@ -1,5 +1,5 @@
 //! Image stage: linear-RGB pixel buffers, grading, exposure and tone mapping to sRGB8, atomic PNG and
-//! EXR output, EXR input (environment maps), and chart drawing (text, lines, rectangles,
+//! EXR output, movies (frames piped to ffmpeg), EXR input (environment maps), and chart drawing (text, lines, rectangles,
 //! viridis colour map), and image-comparison metrics (PSNR, SSIM, CIEDE2000).
 //!
 //! Everything here works on plain pixel arrays and imports nothing else from the crate except
@@ -18,6 +18,7 @@ mod png;
 pub mod stability;
 pub mod text;
 mod tonemap;
+pub mod video;
 pub mod visibility;
 
 pub use crate::atomic::write_atomic;
@@ -26,7 +27,7 @@ pub use colormap::viridis;
 pub use draw::{blend, draw_line, fill_rect, stroke_rect};
 pub use exr::{ExrLayers, read_exr, read_exr_rgba, write_exr};
 pub use grade::Grade;
-pub use png::{read_png, save_png, write_png, write_png_rgba};
+pub use png::{Srgb8Image, read_png, read_png_srgb8, save_png, write_png, write_png_rgba};
 pub use text::{
     Anchor, FontMetrics, HAlign, VAlign, draw_text, draw_text_vertical, font_metrics, text_width,
 };

@@ -67,6 +67,43 @@ fn write_png_impl(
     })
 }
 
+/// Packed 8-bit sRGB pixels, as a PNG holds them: `3 * width * height` bytes, top row first.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Srgb8Image {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// R, G, B bytes of each pixel, row by row.
+    pub data: Vec<u8>,
+}
+
+/// Reads a PNG (any bit depth or colour type the `image` crate decodes) as its 8-bit sRGB
+/// pixels; alpha is dropped (the second value says whether there was any).
+pub fn read_png_srgb8(path: &Path) -> Result<(Srgb8Image, bool)> {
+    let img = ::image::ImageReader::open(path)
+        .map_err(|e| Error::io(path, e))?
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, e))?
+        .decode()
+        .map_err(|e| Error::Format {
+            path: path.into(),
+            format: "PNG",
+            message: e.to_string(),
+        })?;
+    let alpha = img.color().has_alpha();
+    let img = img.to_rgb8();
+    let (width, height) = (img.width() as usize, img.height() as usize);
+    Ok((
+        Srgb8Image {
+            width,
+            height,
+            data: img.into_raw(),
+        },
+        alpha,
+    ))
+}
+
 /// Reads a PNG (any bit depth or colour type the `image` crate decodes) as linear RGB: the
 /// 8-bit sRGB values are decoded with the sRGB curve; alpha is ignored.
 pub fn read_png(path: &Path) -> Result<RgbImage> {

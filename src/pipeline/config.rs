@@ -247,14 +247,23 @@ fn film(d: &SceneDesc, ior: f32, primitive: Primitive, preset: Preset) -> Result
     })
 }
 
+/// The image size a scene renders at, (width, height) pixels: `[render]`'s, 960×540 where
+/// unset (as [`settings`] decides it; checked there).
+pub fn image_size(d: &SceneDesc) -> (usize, usize) {
+    (
+        d.render.width.unwrap_or(960),
+        d.render.height.unwrap_or(540),
+    )
+}
+
 /// `[render]`'s sampling settings, the preset filling what is unset; checks the image size
 /// (also against the memory allowance), roulette and minimum weight.
 fn settings(d: &SceneDesc, preset: Preset, primitive: Primitive) -> Result<RenderSettings> {
     let r = &d.render;
     let defaults = preset.values();
     let settings = RenderSettings {
-        width: r.width.unwrap_or(960),
-        height: r.height.unwrap_or(540),
+        width: image_size(d).0,
+        height: image_size(d).1,
         spp: r.spp.unwrap_or(defaults.spp),
         max_depth: r.max_depth.unwrap_or(defaults.max_depth).min(64),
         min_weight: r.min_weight.unwrap_or(defaults.min_weight),

@@ -41,7 +41,8 @@ pub use load::{
     check_sample_params, load_cloud, load_parts, thickness_unit_factor, thickness_unit_hint,
 };
 pub use output::{
-    check_extension, render_view, scene_aspect, write_image, write_output, write_view,
+    check_extension, image_srgb8, render_view, scene_aspect, view_srgb8, write_image, write_output,
+    write_view,
 };
 pub use prepared::{Note, Prepared};
 pub use stages::Progress;

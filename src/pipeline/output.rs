@@ -2,7 +2,9 @@
 //! and the scientific views with their colour bars.
 
 use super::prepared::Prepared;
-use crate::image::{ExrLayers, Grade, RgbImage, ToneMap, save_png, write_exr};
+use crate::image::{
+    ExrLayers, Grade, RgbImage, Srgb8Image, ToneMap, to_srgb8, write_exr, write_png,
+};
 use crate::render::{RenderOutput, View, ViewImage};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -44,9 +46,8 @@ pub fn write_output(
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("png") => {
-            let data = out.rgb.iter().map(|c| c.to_array()).collect();
-            let img = RgbImage::from_data(out.width, out.height, data)?;
-            save_png(path, &grade.apply(&img), exposure, tonemap)
+            let px = output_srgb8(out, grade, exposure, tonemap)?;
+            write_png(path, px.width, px.height, &px.data)
         }
         Some("exr") => {
             let rgba = out
@@ -68,6 +69,40 @@ pub fn write_output(
             path.display()
         ))),
     }
+}
+
+/// The 8-bit sRGB pixels of `out` that its PNG holds (graded, exposed, tone mapped): what
+/// [`write_image`] writes to a .png, and what a movie is fed.
+pub fn image_srgb8(p: &Prepared, out: &RenderOutput) -> Result<Srgb8Image> {
+    output_srgb8(out, &p.grade, p.exposure, p.tonemap)
+}
+
+/// [`image_srgb8`] with the grading, exposure (EV) and tone curve given directly.
+fn output_srgb8(
+    out: &RenderOutput,
+    grade: &Grade,
+    exposure: f32,
+    tonemap: ToneMap,
+) -> Result<Srgb8Image> {
+    let data = out.rgb.iter().map(|c| c.to_array()).collect();
+    let img = RgbImage::from_data(out.width, out.height, data)?;
+    Ok(Srgb8Image {
+        width: out.width,
+        height: out.height,
+        data: to_srgb8(&grade.apply(&img), exposure, tonemap),
+    })
+}
+
+/// The 8-bit sRGB pixels of a view (colour bar included) that its PNG holds (clamp tone
+/// curve, 0 EV): what [`write_view`] writes to a .png, and what a movie is fed.
+pub fn view_srgb8(v: &ViewImage) -> Result<Srgb8Image> {
+    let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
+    let img = RgbImage::from_data(v.width, v.height, data)?;
+    Ok(Srgb8Image {
+        width: v.width,
+        height: v.height,
+        data: to_srgb8(&img, 0.0, ToneMap::Clamp),
+    })
 }
 
 /// Renders the prepared scene's scientific view (see [`View`]); `None` for the shaded view.
@@ -104,7 +139,10 @@ pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("png") => save_png(path, &img, 0.0, ToneMap::Clamp),
+        Some("png") => {
+            let px = view_srgb8(v)?;
+            write_png(path, px.width, px.height, &px.data)
+        }
         Some("exr") => {
             let rgba = img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
             write_exr(path, &ExrLayers::rgba(v.width, v.height, rgba))

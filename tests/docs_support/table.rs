@@ -77,6 +77,55 @@ pub const TABLE: &[(&str, How)] = &[
         "filmsplat render tests/data/thin-film-sph/drops_on_film/105 --liquid droplets -o dust.png",
         Small,
     ),
+    // README: movies
+    (
+        "filmsplat render 'out/{}' --frames 0..131 -o burst.mp4 --size 640x360",
+        Instead("filmsplat render 'out/{}' --frames 0..2 -o burst.mp4 --size 64x48 --spp 1"),
+    ),
+    (
+        "ffmpeg -i burst.mp4 -vf 'select=eq(n\\,60)' -frames:v 1 burst_60.png",
+        Instead(
+            "ffmpeg -v error -y -i burst.mp4 -vf 'select=eq(n\\,1)' -frames:v 1 burst_60.png && test -s burst_60.png",
+        ),
+    ),
+    // sequences: movies and encode
+    (
+        "filmsplat render 'frames/frame_{:04}.ply' --frames 0..240 -o movie.mp4",
+        Instead(
+            "filmsplat render 'frames/frame_{:04}.ply' --frames 0..3 -o movie.mp4 --size 64x48 --spp 1",
+        ),
+    ),
+    (
+        "filmsplat render samples/oscillating-bubble.toml --frames 0..48 -o osc.webm --fps 12 --crf 35",
+        Instead(
+            "filmsplat render samples/oscillating-bubble.toml --frames 0..2 -o osc.webm --fps 12 --crf 35 --size 64x48 --spp 1",
+        ),
+    ),
+    (
+        "filmsplat render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240 --shard 0/2",
+        Instead(
+            "filmsplat render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..3 --shard 0/2 --size 64x48 --spp 1",
+        ),
+    ),
+    (
+        "filmsplat render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..240 --shard 1/2",
+        Instead(
+            "filmsplat render 'frames/frame_{:04}.ply' -o 'out/{:04}.png' --frames 0..3 --shard 1/2 --size 64x48 --spp 1",
+        ),
+    ),
+    ("filmsplat encode 'out/{:04}.png' -o movie.mp4", AsIs),
+    // benchmarks: movies
+    (
+        "filmsplat render 'out/{}' --frames 0..48 -o 'png/{:03}.png' --size 640x360 -q",
+        Instead(
+            "filmsplat render 'out/{}' --frames 0..2 -o 'png/{:03}.png' --size 64x48 --spp 1 -q",
+        ),
+    ),
+    ("filmsplat encode 'png/{:03}.png' -o b1.mp4 -q", AsIs),
+    (
+        "filmsplat render 'out/{}' --frames 0..48 -o b2.mp4 --size 640x360 -q",
+        Instead("filmsplat render 'out/{}' --frames 0..2 -o b2.mp4 --size 64x48 --spp 1 -q"),
+    ),
     // first render, own data
     ("filmsplat render samples/bubble.toml -o bubble.png", Small),
     (
