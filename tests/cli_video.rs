@@ -483,3 +483,35 @@ fn an_interrupted_movie_leaves_no_movie_and_the_next_run_cleans_up() {
     assert!(dir.join("m.mp4").exists());
     assert_eq!(temps(), 0, "the killed runs' temporaries are removed");
 }
+
+#[test]
+fn a_turntable_goes_into_a_movie_prepared_once() {
+    need_ffmpeg();
+    let dir = scene("video-turntable");
+    let frame = cli_support::data("thin-film-sph/bursting_bubble/60");
+    let args = |o: &'static str| {
+        let mut v = vec![
+            "render",
+            frame.as_str(),
+            "--frames",
+            "0..4",
+            "--orbit",
+            "360",
+            "-o",
+            o,
+        ];
+        v.extend(SMALL);
+        v
+    };
+    let (code, _, stderr) = run_in(&dir, &args("turn.mp4"), None);
+    assert_eq!(code, 0, "{stderr}");
+    // The cloud is read once; the other three frames re-aim it.
+    assert_eq!(stderr.matches("load ").count(), 1, "{stderr}");
+    assert_eq!(stderr.matches("camera re-aimed").count(), 3, "{stderr}");
+    assert!(probe(&dir.join("turn.mp4")).contains("nb_read_frames=4"));
+    // The same turntable as images: the movie's first frame is its first view.
+    let (code, _, stderr) = run_in(&dir, &args("png/{:04}.png"), None);
+    assert_eq!(code, 0, "{stderr}");
+    let png = |f: &str| dir.join(format!("png/{f}.png"));
+    first_frame_is(&dir.join("turn.mp4"), &png("0000"), &png("0002"));
+}
