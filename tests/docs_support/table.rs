@@ -88,6 +88,16 @@ pub const TABLE: &[(&str, How)] = &[
             "ffmpeg -v error -y -i burst.mp4 -vf 'select=eq(n\\,1)' -frames:v 1 burst_60.png && test -s burst_60.png",
         ),
     ),
+    (
+        "filmsplat render tests/data/melp/foam3/50 --frames 0..120 --orbit 360 -o foam_turn.mp4",
+        Instead(
+            "filmsplat render tests/data/melp/foam3/50 --frames 0..2 --orbit 360 -o foam_turn.mp4 --size 64x48 --spp 1",
+        ),
+    ),
+    (
+        "filmsplat render path.toml --frames 0..48 -o path.mp4",
+        Instead("filmsplat render path.toml --frames 23..25 -o path.mp4 --size 64x48 --spp 1"),
+    ),
     // sequences: movies and encode
     (
         "filmsplat render 'frames/frame_{:04}.ply' --frames 0..240 -o movie.mp4",
