@@ -36,7 +36,7 @@ pub fn key_line(text: &str, key: &[&str]) -> Option<usize> {
     let (table, rest): (Vec<&str>, &[&str]) = match key {
         [t, i, rest @ ..] if i.parse::<usize>().is_ok() => (vec![t, i], rest),
         // `[[camera.key]]`: an array of tables inside a table.
-        [t, sub, i, rest @ ..] if i.parse::<usize>().is_ok() => {
+        [t, sub, i, rest @ ..] if !rest.is_empty() && i.parse::<usize>().is_ok() => {
             nested = format!("{t}.{sub}");
             (vec![nested.as_str(), i], rest)
         }
@@ -84,6 +84,9 @@ mod tests {
             "[camera]\nfov = 30\n[[camera.key]]\nframe = 0\n[[camera.key]]\nframe = 9\nfov = nan\n";
         assert_eq!(key_line(keys, &["camera", "key", "1", "fov"]), Some(7));
         assert_eq!(key_line(keys, &["camera", "fov"]), Some(2));
+        // An array's element index after a key is not a table's index.
+        let pos = "[camera]\nfov = 30\nposition = [nan, 0.5, 4.0]\n";
+        assert_eq!(key_line(pos, &["camera", "position", "0"]), Some(3));
         let ok: toml::Table = "a = 1.5\nb = [1e38]\n".parse().unwrap();
         assert!(bad_float(&ok).is_none());
         let big: toml::Table = "[film]\nior = 1e39\n".parse().unwrap();
