@@ -22,6 +22,7 @@ mod load;
 mod melp_sets;
 pub mod memory;
 mod output;
+pub mod pinholes;
 mod prepared;
 #[cfg(feature = "reconstruct")]
 pub mod reconstruct;

@@ -17,6 +17,7 @@ pub mod knn;
 pub mod liquid;
 pub mod mesh;
 pub mod orient;
+pub mod span;
 pub mod stats;
 pub mod validate;
 pub mod walls;
