@@ -164,7 +164,8 @@ fn build_geometry(
 ) -> Result<(crate::geometry::FilmGeometry, std::time::Duration)> {
     let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
     let neighbours = films.neighbours.take();
-    let geometry = build::film_geometry(&config.film, &films.cloud, radii, neighbours)?;
+    let geometry =
+        build::film_geometry(&config.film, &films.cloud, radii, neighbours, &films.clips)?;
     let build_time = stage.finish(&format!(
         "built the {geometry} geometry of {} particles",
         stages::thousands(films.cloud.len())

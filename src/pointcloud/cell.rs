@@ -5,7 +5,7 @@
 //!
 //! All coordinates are 2D offsets from the particle (at the origin), scene units.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 /// The vertices of the cell {x : |x| ≤ |x − q| for every q in `near`} ∩ [−half, half]²: the
 /// square clipped by the half-planes x·q ≤ |q|²/2 (Sutherland–Hodgman on a convex polygon).
@@ -138,6 +138,38 @@ pub fn rim_midpoints(near: &[Vec2], hull: &[Vec2]) -> f32 {
         }
     }
     most
+}
+
+/// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
+/// within 60°, not farther off its tangent plane than along it), nearer than `open`, as
+/// offsets in its tangent plane; and the distance to the nearest particle of `row` (∞ for
+/// none).
+pub fn sheet_neighbours(
+    p: Vec3,
+    nrm: Vec3,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    open: f32,
+    row: &mut dyn Iterator<Item = (u32, f32)>,
+) -> (Vec<Vec2>, f32) {
+    let (u, v) = nrm.any_orthonormal_pair();
+    let mut near: Vec<Vec2> = Vec::with_capacity(16);
+    let mut nearest = f32::INFINITY;
+    for (j, d) in row {
+        let (q, nj) = (positions[j as usize], normals[j as usize]);
+        let off = q - p;
+        let flat = Vec2::new(off.dot(u), off.dot(v));
+        nearest = nearest.min(d);
+        if nj.dot(nrm).abs() < 0.5
+            || off.dot(nrm).abs() > flat.length()
+            || flat.length_squared() == 0.0
+            || flat.length() >= open
+        {
+            continue;
+        }
+        near.push(flat);
+    }
+    (near, nearest)
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use glam::Vec3;
 
 pub mod area;
 pub mod cell;
+pub mod clip;
 pub mod curvature;
 pub mod dedupe;
 pub mod droplet_size;
