@@ -8,9 +8,13 @@
 //! 60°, less than two spacings off i's plane) by more than [`INSIDE`] spacings: the same oracle
 //! as `tests/film_coverage.rs`. Gaps narrower than 2 × [`HULL_REACH`] spacings count as film
 //! (the hull bridges them), so the test never hides a hole the renderer opened inside a sheet.
+//! Where the simulator stores each particle's area A ([`FilmSpan::with_own_radii`]), a
+//! crossing must also lie within [`AREA_OVERLAP`] × √(A/π) of a particle of the sheet: the
+//! particles of a torn fragment, far apart for their size, span no film between them.
 
 use glam::{Vec2, Vec3};
 
+use super::area::AREA_OVERLAP;
 use super::estimate::median_spacing;
 use super::knn::PointIndex;
 
@@ -38,6 +42,8 @@ pub struct FilmSpan<'a> {
     spacing: f32,
     lo: Vec3,
     hi: Vec3,
+    /// Each particle's own radius √(A/π) (empty or 0: unknown).
+    own: Vec<f32>,
 }
 
 impl<'a> FilmSpan<'a> {
@@ -54,7 +60,15 @@ impl<'a> FilmSpan<'a> {
             spacing: median_spacing(positions),
             lo,
             hi,
+            own: Vec::new(),
         }
+    }
+
+    /// The particles' own radii √(A/π) (from `super::area::own_radii`; one a particle, 0 for
+    /// unknown; empty for none).
+    pub fn with_own_radii(mut self, own: Vec<f32>) -> Self {
+        self.own = own;
+        self
     }
 
     /// The median spacing the tests are measured in, scene units.
@@ -117,6 +131,7 @@ impl<'a> FilmSpan<'a> {
             return false;
         }
         let (u, v) = n.any_orthonormal_pair();
+        let mut covered = self.own.is_empty();
         let flat: Vec<Vec2> = self
             .index
             .nearest_excluding(x, HULL_NEIGHBOURS, u32::MAX)
@@ -124,11 +139,16 @@ impl<'a> FilmSpan<'a> {
             .filter_map(|(j, _)| {
                 let off = self.positions[j as usize] - x;
                 let nj = self.normals[j as usize].normalize_or_zero();
-                (nj.dot(n).abs() > 0.5 && off.dot(n).abs() < 2.0 * s)
-                    .then(|| Vec2::new(off.dot(u), off.dot(v)))
+                let q = Vec2::new(off.dot(u), off.dot(v));
+                let own = self.own.get(j as usize).copied().unwrap_or(0.0);
+                covered |= !(own > 0.0) || q.length() <= AREA_OVERLAP * own;
+                (nj.dot(n).abs() > 0.5 && off.dot(n).abs() < 2.0 * s).then_some(q)
             })
             .filter(|q| q.length() < HULL_REACH * s)
             .collect();
+        if !covered {
+            return false;
+        }
         let hull = super::cell::hull_with_origin(&flat);
         // The origin (x) is one of the hull's points: it is inside the particles' hull only if
         // it is no vertex of it, and then as deep as its distance to the nearest edge.
@@ -160,5 +180,9 @@ mod tests {
         // Seen at a grazing angle, through the sheet: still film.
         let dir = Vec3::new(1.0, 0.0, -0.05).normalize();
         assert!(span.crosses(Vec3::new(-20.0, 6.5, 1.25), dir, f32::INFINITY));
+        // Particles of area radius 0.2 a spacing apart: film only within 0.4 of one.
+        let span = FilmSpan::new(&pos, &normals).with_own_radii(vec![0.2; pos.len()]);
+        let down = |x: f32, y: f32| span.crosses(Vec3::new(x, y, 5.0), -Vec3::Z, f32::INFINITY);
+        assert!(down(5.3, 6.0) && !down(5.5, 6.5));
     }
 }
