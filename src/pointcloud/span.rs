@@ -81,7 +81,8 @@ impl<'a> FilmSpan<'a> {
     /// plus a hull of [`HULL_NEIGHBOURS`] for each particle passed.
     pub fn crosses(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         let s = self.spacing;
-        if !(s > 0.0) || self.positions.len() != self.normals.len() || !dir.is_finite() {
+        if s.is_nan() || s <= 0.0 || self.positions.len() != self.normals.len() || !dir.is_finite()
+        {
             return false;
         }
         // The stretch of the ray inside the cloud's box grown by a spacing.
@@ -90,7 +91,7 @@ impl<'a> FilmSpan<'a> {
         let (a, b) = ((lo - origin) * inv, (hi - origin) * inv);
         let t0 = a.min(b).max_element().max(0.0);
         let t1 = a.max(b).min_element().min(t_max);
-        if !(t0 < t1) {
+        if t0.is_nan() || t1.is_nan() || t0 >= t1 {
             return false;
         }
         let mut seen: Vec<u32> = Vec::new();
@@ -141,7 +142,7 @@ impl<'a> FilmSpan<'a> {
                 let nj = self.normals[j as usize].normalize_or_zero();
                 let q = Vec2::new(off.dot(u), off.dot(v));
                 let own = self.own.get(j as usize).copied().unwrap_or(0.0);
-                covered |= !(own > 0.0) || q.length() <= AREA_OVERLAP * own;
+                covered |= own.is_nan() || own <= 0.0 || q.length() <= AREA_OVERLAP * own;
                 (nj.dot(n).abs() > 0.5 && off.dot(n).abs() < 2.0 * s).then_some(q)
             })
             .filter(|q| q.length() < HULL_REACH * s)
