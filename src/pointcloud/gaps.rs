@@ -345,20 +345,7 @@ fn fan(
         };
     }
     let (depth, row) = depth_in_hull(&hull);
-    // On the hull, i is cut half the shorter of the hull's edges beside it past them, and
-    // covers its cell and the edge strips to its neighbours' halves. Inside, i reaches at
-    // most half a spacing of that row (or its own) past the nearest hull edge.
-    let (reach, cut) = match hull.iter().position(|h| *h == Vec2::ZERO) {
-        Some(k) if depth == 0.0 => {
-            let (a, b) = (
-                hull[(k + 1) % hull.len()],
-                hull[(k + hull.len() - 1) % hull.len()],
-            );
-            let (m, reach, corner) = edge_cut(a, b, &near, EDGE_REACH);
-            (reach, Some((m, corner)))
-        }
-        _ => (reach.min(EDGE_REACH * row), None),
-    };
+    let (reach, cut) = reach_and_cut(&hull, &near, depth, row, reach);
     let cell = voronoi_cell(&near, longest);
     let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
     let whole = farthest(&cell);
@@ -378,6 +365,32 @@ fn fan(
         edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || most < r.max(need),
         clip,
+    }
+}
+
+/// How far particle i (at the origin, `depth` inside the `hull` of its sheet neighbours
+/// `near`, whose nearest hull edge is `row` long) reaches past the hull, from `reach` (half its
+/// spacing): on the hull, i is cut half the shorter of the hull's edges beside it past them
+/// (the cut's normals and the farthest corner of the edge strips it covers are returned), and
+/// covers its cell and the edge strips to its neighbours' halves. Inside, i reaches at most
+/// half a spacing of that row (or its own) past the nearest hull edge.
+fn reach_and_cut(
+    hull: &[Vec2],
+    near: &[Vec2],
+    depth: f32,
+    row: f32,
+    reach: f32,
+) -> (f32, Option<([Vec2; 2], f32)>) {
+    match hull.iter().position(|h| *h == Vec2::ZERO) {
+        Some(k) if depth == 0.0 => {
+            let (a, b) = (
+                hull[(k + 1) % hull.len()],
+                hull[(k + hull.len() - 1) % hull.len()],
+            );
+            let (m, reach, corner) = edge_cut(a, b, near, EDGE_REACH);
+            (reach, Some((m, corner)))
+        }
+        _ => (reach.min(EDGE_REACH * row), None),
     }
 }
 
