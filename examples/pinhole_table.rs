@@ -1,4 +1,4 @@
-//! The pinhole table of `docs/formats-and-simulators.md`: every real simulator frame, as disks
+//! The pinhole table of `docs/rendering.md`: every real simulator frame, as disks
 //! and as the MLS surface, seen from the default camera and edge-on
 //! ([`pipeline::pinholes::edge_on`]), at 960×540 and 1 spp (`--preset preview`).
 //!
