@@ -43,10 +43,12 @@ struct LayerSearch {
 
 impl DiskGeometry {
     /// Tests the disks in slots `first .. first + count` four at a time for
-    /// `t_min < t < t_max` and calls `hit(slot, t, d2)` for each hit, in slot order.
+    /// `t_min < t < t_max` and calls `hit(slot, t, d2)` for each hit not cut off by the disk's
+    /// edge cut, in slot order.
     #[inline(always)]
     fn disk_leaf(
         &self,
+        ray: &Ray,
         r4: &Ray4,
         (first, count): (u32, u32),
         t_min: f32,
@@ -64,7 +66,10 @@ impl DiskGeometry {
             while m != 0 {
                 let i = m.trailing_zeros() as usize;
                 m &= m - 1;
-                hit((s + i) as u32, h.t[i], h.d2[i]);
+                let slot = (s + i) as u32;
+                if !self.cut_off(slot, ray, h.t[i]) {
+                    hit(slot, h.t[i], h.d2[i]);
+                }
             }
             s += 4;
         }
@@ -78,7 +83,7 @@ impl DiskGeometry {
         self.bvh
             .closest_leaves(ray, t_min, t_max, |first, count, lim| {
                 let hi = if best.is_some() { lim.next_up() } else { t_max };
-                self.disk_leaf(&r4, (first, count), t_min, hi, |s, t, d2| {
+                self.disk_leaf(ray, &r4, (first, count), t_min, hi, |s, t, d2| {
                     // Inclusive of the current closest `t` (ties), as `intersect_disk(.., hi)`.
                     let hi = if best.is_some() { lim.next_up() } else { t_max };
                     if t < hi
@@ -112,7 +117,7 @@ impl DiskGeometry {
         // exact per-slot limit is applied below, as if each slot were tested on its own.
         self.bvh
             .closest_leaves(ray, t_min, t_max, |first, count, lim| {
-                self.disk_leaf(&r4, (first, count), t_min, t_max, |s, t, d2| {
+                self.disk_leaf(ray, &r4, (first, count), t_min, t_max, |s, t, d2| {
                     let d = &self.disks[s as usize];
                     // Inclusive of `lim` (ties with the closest hit), exclusive of `t_max`.
                     let hi = if *lim < t_max { lim.next_up() } else { t_max };
@@ -181,6 +186,7 @@ impl DiskGeometry {
                     if s != slot0
                         && let Some((t, d2)) =
                             intersect_disk(ray, d.center, d.normal, d.radius, t_min, t_end)
+                        && !self.cut_off(s, ray, t)
                     {
                         add(s, t, d2);
                     }

@@ -64,7 +64,23 @@ pub fn missing_front_layer_besides(
     height: usize,
     other: &[bool],
 ) -> FrontLayer {
-    let mut out = FrontLayer::default();
+    let (interior, missing) = missing_pixels(depth, width, height, other);
+    FrontLayer {
+        interior,
+        missing: missing.len(),
+    }
+}
+
+/// What [`missing_front_layer_besides`] counts: the number of interior pixels, and the
+/// missing ones (row-major indices, ascending), for a caller that looks at each (e.g. asks
+/// whether the particles hold film there).
+pub fn missing_pixels(
+    depth: &[f32],
+    width: usize,
+    height: usize,
+    other: &[bool],
+) -> (usize, Vec<usize>) {
+    let mut out = (0, Vec::new());
     if depth.len() != width * height || !(other.is_empty() || other.len() == depth.len()) {
         return out;
     }
@@ -87,10 +103,10 @@ pub fn missing_front_layer_besides(
             {
                 continue;
             }
-            out.interior += 1;
+            out.0 += 1;
             let d = depth[y * width + x];
             if d <= 0.0 {
-                out.missing += 1;
+                out.1.push(y * width + x);
                 continue;
             }
             near.clear();
@@ -107,7 +123,7 @@ pub fn missing_front_layer_besides(
             near.iter_mut().for_each(|v| *v = (*v - median).abs());
             let mad = *near.select_nth_unstable_by(mid, f32::total_cmp).1;
             if d - median > ((BEHIND - 1.0) * median).max(SPREAD * mad) {
-                out.missing += 1;
+                out.1.push(y * width + x);
             }
         }
     }

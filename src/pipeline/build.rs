@@ -8,6 +8,7 @@ use crate::geometry::{
     Aabb, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry,
 };
 use crate::pointcloud::PointCloud;
+use crate::pointcloud::clip::EdgeClip;
 use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
 use crate::pointcloud::knn::KnnTable;
 use crate::render::{AttributeValues, Environment, LatLongMap, Studio};
@@ -82,12 +83,13 @@ pub(super) fn attribute_values(
 }
 
 /// The film geometry of `cloud` drawn as `film.primitive` with `radii`; `neighbours` is the
-/// estimate's neighbour table, if it built one.
+/// estimate's neighbour table, if it built one; `clips`, the disks' edge cuts (empty: none).
 pub(super) fn film_geometry(
     film: &FilmConfig,
     cloud: &PointCloud,
     radii: &[f32],
     neighbours: Option<KnnTable>,
+    clips: &[EdgeClip],
 ) -> Result<FilmGeometry> {
     let normals = cloud.normals.as_deref().unwrap_or_default();
     let thickness = cloud.thickness_nm.as_deref().unwrap_or_default();
@@ -99,6 +101,19 @@ pub(super) fn film_geometry(
     let detail = (film.primitive == Primitive::Disk && film.first_order_detail)
         .then(|| detail(&cloud.positions, normals, thickness, radii, neighbours));
     if film.primitive == Primitive::Mls {
+        // The surface has no cut: an edge particle's support stays within its cut's offset
+        // (half a spacing) instead of the radius that covers its cell up to the cut.
+        let cut: Vec<f32>;
+        let radii = if clips.is_empty() {
+            radii
+        } else {
+            cut = radii
+                .iter()
+                .zip(clips)
+                .map(|(r, c)| r.min(c[0].w).min(c[1].w))
+                .collect();
+            &cut
+        };
         return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
     }
     let mut splats =
@@ -110,6 +125,9 @@ pub(super) fn film_geometry(
         }
         if !film.blend {
             disks.set_layer_blend(LayerBlend::NONE);
+        }
+        if !clips.is_empty() {
+            disks.set_edge_clips(clips)?;
         }
     }
     Ok(splats)

@@ -9,8 +9,9 @@ pub use super::sample_check::check_sample_params;
 use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
+use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
 use crate::pointcloud::gaps::{
-    AREA_OVERLAP, FAN_NEIGHBOURS, bound_by_area, fit_radii_owned, own_radii,
+    AREA_OVERLAP, FAN_NEIGHBOURS, bound_by_area, fit_radii_clipped, own_radii,
 };
 use crate::pointcloud::knn::{KnnTable, PointIndex};
 use crate::pointcloud::{
@@ -171,6 +172,9 @@ pub(super) struct Films {
     pub neighbours: Option<KnnTable>,
     /// Every film came with its radii (none were estimated from spacing).
     pub had_radius: bool,
+    /// Each particle's cut at the open edge it lies on (see `pointcloud::clip`), one per
+    /// particle of `cloud`; empty when the radii were not fitted.
+    pub clips: Vec<EdgeClip>,
 }
 
 impl Films {
@@ -209,8 +213,17 @@ pub(super) fn films(
         ..Films::default()
     };
     for part in films {
-        let (cloud, table, had_radius) = complete(part, film, flags, notes)?;
+        let (cloud, table, had_radius, clips) = complete(part, film, flags, notes)?;
         out.had_radius &= had_radius;
+        if !clips.is_empty() && out.clips.is_empty() {
+            let before: usize = clouds.iter().map(PointCloud::len).sum();
+            out.clips = vec![NO_CLIP; before];
+        }
+        if !clips.is_empty() || !out.clips.is_empty() {
+            let n = cloud.len();
+            out.clips
+                .extend(clips.into_iter().chain(std::iter::repeat(NO_CLIP)).take(n));
+        }
         if single {
             out.neighbours = table;
         }
@@ -227,14 +240,14 @@ pub(super) fn films(
 /// One film part made ready to draw: validated (or repaired), coincident copies dropped,
 /// thickness scaled (a thickness certainly in another unit refused, unless `unit_explicit`:
 /// the user named the unit or a scale), what is missing estimated, radii fitted. Returns the
-/// neighbour table if one was built (by the estimate, or for the fit), and whether the part
-/// came with radii.
+/// neighbour table if one was built (by the estimate, or for the fit), whether the part came
+/// with radii, and its edge cuts (empty when not fitted).
 fn complete(
     part: CloudPart,
     film: &FilmConfig,
     (repairing, unit_explicit): (bool, bool),
     notes: &mut Vec<Note>,
-) -> Result<(PointCloud, Option<KnnTable>, bool)> {
+) -> Result<(PointCloud, Option<KnnTable>, bool, Vec<EdgeClip>)> {
     let label = part.label;
     let mut cloud = part.cloud;
     let name = |e: Error| Error::invalid(format!("{label}: {e}"));
@@ -281,6 +294,7 @@ fn complete(
         }
     }
     let mut table = table;
+    let mut clips = Vec::new();
     if film.fit_radii
         && let Some(r) = cloud.radius.as_mut()
     {
@@ -298,10 +312,11 @@ fn complete(
         }
         let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
         let normals = cloud.normals.as_deref().unwrap_or_default();
-        let fit = fit_radii_owned(&index, &cloud.positions, normals, r, t, &own);
+        let (fit, cut) = fit_radii_clipped(&index, &cloud.positions, normals, r, t, &own);
         notes.push(Note::new(format!("{label}: {fit}")));
+        clips = cut;
     }
-    Ok((cloud, table, had_radius))
+    Ok((cloud, table, had_radius, clips))
 }
 
 /// A thickness certainly in another unit would render a blank (or white) film: refused, unless

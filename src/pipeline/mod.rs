@@ -24,6 +24,7 @@ mod load;
 mod melp_sets;
 pub mod memory;
 mod output;
+pub mod pinholes;
 mod prepared;
 #[cfg(feature = "reconstruct")]
 pub mod reconstruct;
@@ -176,7 +177,8 @@ fn build_geometry(
 ) -> Result<(crate::geometry::FilmGeometry, std::time::Duration)> {
     let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
     let neighbours = films.neighbours.take();
-    let geometry = build::film_geometry(&config.film, &films.cloud, radii, neighbours)?;
+    let geometry =
+        build::film_geometry(&config.film, &films.cloud, radii, neighbours, &films.clips)?;
     let build_time = stage.finish(&format!(
         "built the {geometry} geometry of {} particles",
         stages::thousands(films.cloud.len())

@@ -5,7 +5,7 @@
 //!
 //! All coordinates are 2D offsets from the particle (at the origin), scene units.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 /// Reusable buffers for one particle's polygons, so a fit over a million particles allocates
 /// once a worker instead of some thirty times a particle. The `_into` functions below compute
@@ -191,6 +191,52 @@ pub fn rim_midpoints(near: &[Vec2], hull: &[Vec2]) -> f32 {
         }
     }
     most
+}
+
+/// The two smallest lengths of `near`, shortest first (the first two of them sorted; ∞ for
+/// none).
+pub fn two_shortest(near: &[Vec2]) -> (f32, f32) {
+    let (mut d0, mut d1) = (f32::INFINITY, f32::INFINITY);
+    for l in near.iter().map(|q| q.length()) {
+        if l < d0 {
+            (d0, d1) = (l, d0);
+        } else if l < d1 {
+            d1 = l;
+        }
+    }
+    (d0, d1)
+}
+
+/// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
+/// within 60°, not farther off its tangent plane than along it), nearer than `open`, as
+/// offsets in its tangent plane, into `near`; returns the distance to the nearest particle of
+/// `row` (∞ for none).
+pub fn sheet_neighbours(
+    p: Vec3,
+    nrm: Vec3,
+    (positions, normals): (&[Vec3], &[Vec3]),
+    open: f32,
+    row: &[(u32, f32)],
+    near: &mut Vec<Vec2>,
+) -> f32 {
+    let (u, v) = nrm.any_orthonormal_pair();
+    near.clear();
+    let mut nearest = f32::INFINITY;
+    for &(j, d) in row {
+        let (q, nj) = (positions[j as usize], normals[j as usize]);
+        let off = q - p;
+        let flat = Vec2::new(off.dot(u), off.dot(v));
+        nearest = nearest.min(d);
+        if nj.dot(nrm).abs() < 0.5
+            || off.dot(nrm).abs() > flat.length()
+            || flat.length_squared() == 0.0
+            || flat.length() >= open
+        {
+            continue;
+        }
+        near.push(flat);
+    }
+    nearest
 }
 
 #[cfg(test)]

@@ -17,11 +17,11 @@
 //!   open edge never grows into the empty side.
 //! - **Reach.** No disk reaches more than [`EDGE_REACH`] × its spacing beyond the hull of its
 //!   neighbourhood: an edge particle (i on the hull: neighbours on one side only — a free
-//!   edge, the rim of a hole, a rupture front) keeps at most half the shorter hull edge beside
-//!   it (the spacing of the last row), a particle one row in at most its depth in the hull plus
-//!   half its spacing (the mean distance to its two nearest sheet neighbours). The inner part
-//!   of an edge particle's cell, and the middle of each stretch of edge between two edge
-//!   particles, are covered by the next row's disks, which grow to reach them.
+//!   edge, the rim of a hole, a rupture front, a small fragment) is cut by the lines half the
+//!   shorter hull edge beside it outside those edges ([`super::clip`]), and grows to cover its
+//!   cell and the edge strips to its neighbours' halves out to the cut, so the edge runs
+//!   straight, without notches; a particle one row in reaches at most its depth in the hull
+//!   plus half its spacing (the mean distance to its two nearest sheet neighbours).
 //! - **Isolated** particles (fewer than two sheet neighbours in reach) are drawn at their own
 //!   size: the disk of their area where the simulator stores one, else at most [`EDGE_REACH`]
 //!   × the distance to their nearest neighbour.
@@ -44,8 +44,9 @@ pub use super::area::{
 };
 use super::cell::{
     CellScratch, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
-    voronoi_cell_into,
+    sheet_neighbours, two_shortest, voronoi_cell_into,
 };
+use super::clip::{EdgeClip, NO_CLIP, reach_and_cut, to_3d};
 use super::estimate::median_positive;
 use super::knn::{KnnTable, PointIndex};
 
@@ -107,6 +108,7 @@ enum Fit {
         most: f32,
         edge: bool,
         bounded: bool,
+        clip: EdgeClip,
     },
     /// No sheet neighbours: the distance to the nearest particle (∞ for none).
     Isolated(f32),
@@ -165,6 +167,20 @@ pub fn fit_radii_owned(
     table: Option<&KnnTable>,
     own: &[f32],
 ) -> GapReport {
+    fit_radii_clipped(index, positions, normals, radii, table, own).0
+}
+
+/// [`fit_radii_owned`], also returning each splat's cut at the open edge it lies on
+/// ([`super::clip`]; [`NO_CLIP`] elsewhere, and for all when nothing was fitted: then the
+/// list is empty). A splat drawn without its cut may leave notches at open edges.
+pub fn fit_radii_clipped(
+    index: &PointIndex,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    radii: &mut [f32],
+    table: Option<&KnnTable>,
+    own: &[f32],
+) -> (GapReport, Vec<EdgeClip>) {
     let n = positions.len();
     if n < 3
         || normals.len() != n
@@ -172,7 +188,7 @@ pub fn fit_radii_owned(
         || index.len() > n
         || table.is_some_and(|t| t.len() != n)
     {
-        return GapReport::default();
+        return (GapReport::default(), Vec::new());
     }
     let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
     let cap = MAX_GROWTH * median;
@@ -219,16 +235,22 @@ pub fn fit_radii_owned(
 }
 
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×
-/// the particles' own sizes `own` where known: empty or 0 for unknown).
-fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> GapReport {
+/// the particles' own sizes `own` where known: empty or 0 for unknown); returns the edge cuts.
+fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> (GapReport, Vec<EdgeClip>) {
     let mut report = GapReport::default();
+    let mut clips = vec![NO_CLIP; fits.len()];
     for (i, (r, fit)) in radii.iter_mut().zip(fits).enumerate() {
         let own = own.get(i).copied().filter(|o| *o > 0.0);
         let new = match fit {
             Fit::Sheet {
-                need, most, edge, ..
+                need,
+                most,
+                edge,
+                clip,
+                ..
             } => {
                 report.edge += usize::from(edge);
+                clips[i] = clip;
                 r.max(need.min(cap)).min(most)
             }
             Fit::Isolated(nearest) => match own {
@@ -237,8 +259,14 @@ fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> GapReport 
                 None => *r,
             },
         };
+        // An edge splat, cut at the edge, grows no further than a splat keeps unfitted.
+        let growth = if clips[i] == NO_CLIP {
+            AREA_GROWTH
+        } else {
+            AREA_OVERLAP
+        };
         let new = match own {
-            Some(o) => new.min(AREA_GROWTH * o).max(r.min(new)),
+            Some(o) => new.min(growth * o).max(r.min(new)),
             None => new,
         };
         if new > *r {
@@ -250,7 +278,7 @@ fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> GapReport 
             *r = new;
         }
     }
-    report
+    (report, clips)
 }
 
 /// The median over (up to [`SPACING_SAMPLE`] strided) particles of the distance to their
@@ -299,6 +327,7 @@ fn fan(
             most: f32::INFINITY,
             edge: false,
             bounded: false,
+            clip: NO_CLIP,
         };
     }
     // Where the film thins, its particles spread: the reach of a neighbourhood follows the
@@ -325,81 +354,32 @@ fn fan(
             most: reach,
             edge: true,
             bounded: true,
+            clip: NO_CLIP,
         };
     }
     let (depth, row) = depth_in_hull(hull);
-    // On the hull, i reaches half the shorter of the hull's edges beside it, past the last
-    // row; the film between two edge particles is closed by the particle one row in. Inside,
-    // i reaches at most half a spacing of that row (or its own) past the nearest hull edge.
-    let reach = match hull.iter().position(|h| *h == Vec2::ZERO) {
-        Some(k) if depth == 0.0 => {
-            let (a, b) = (
-                hull[(k + 1) % hull.len()],
-                hull[(k + hull.len() - 1) % hull.len()],
-            );
-            EDGE_REACH * a.length().min(b.length())
-        }
-        _ => reach.min(EDGE_REACH * row),
-    };
+    let (reach, cut) = reach_and_cut(hull, near, depth, row, reach, EDGE_REACH);
     voronoi_cell_into(near, longest, &mut s.cell);
     let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
     let whole = farthest(&s.cell.poly);
     clip_to_hull_into(hull, &mut s.cell);
     let far = farthest(&s.cell.poly);
     let rim = rim_midpoints(near, hull);
-    let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
+    let (need, most, clip) = match cut {
+        Some((m, corner)) => {
+            let (u, v) = nrm.any_orthonormal_pair();
+            let need = GAP_MARGIN * far.max(rim).max(corner);
+            (need, need, to_3d(m, reach, u, v))
+        }
+        None => (GAP_MARGIN * far.max(rim), depth + reach, NO_CLIP),
+    };
     Fit::Sheet {
         need,
         most,
         edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || most < r.max(need),
+        clip,
     }
-}
-
-/// The two smallest lengths of `near`, shortest first (the first two of them sorted; ∞ for
-/// none).
-fn two_shortest(near: &[Vec2]) -> (f32, f32) {
-    let (mut d0, mut d1) = (f32::INFINITY, f32::INFINITY);
-    for l in near.iter().map(|q| q.length()) {
-        if l < d0 {
-            (d0, d1) = (l, d0);
-        } else if l < d1 {
-            d1 = l;
-        }
-    }
-    (d0, d1)
-}
-
-/// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
-/// within 60°, not farther off its tangent plane than along it), nearer than `open`, as
-/// offsets in its tangent plane, into `near`; returns the distance to the nearest particle of
-/// `row` (∞ for none).
-fn sheet_neighbours(
-    p: Vec3,
-    nrm: Vec3,
-    (positions, normals): (&[Vec3], &[Vec3]),
-    open: f32,
-    row: &[(u32, f32)],
-    near: &mut Vec<Vec2>,
-) -> f32 {
-    let (u, v) = nrm.any_orthonormal_pair();
-    near.clear();
-    let mut nearest = f32::INFINITY;
-    for &(j, d) in row {
-        let (q, nj) = (positions[j as usize], normals[j as usize]);
-        let off = q - p;
-        let flat = Vec2::new(off.dot(u), off.dot(v));
-        nearest = nearest.min(d);
-        if nj.dot(nrm).abs() < 0.5
-            || off.dot(nrm).abs() > flat.length()
-            || flat.length_squared() == 0.0
-            || flat.length() >= open
-        {
-            continue;
-        }
-        near.push(flat);
-    }
-    nearest
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use glam::Vec3;
 
 pub mod area;
 pub mod cell;
+pub mod clip;
 pub mod curvature;
 pub mod dedupe;
 pub mod droplet_size;
@@ -17,6 +18,7 @@ pub mod knn;
 pub mod liquid;
 pub mod mesh;
 pub mod orient;
+pub mod span;
 pub mod stats;
 pub mod validate;
 pub mod walls;

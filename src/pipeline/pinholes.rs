@@ -1,0 +1,94 @@
+//! The pinhole metric on the film the data holds: [`crate::image::pinholes`] finds the interior
+//! pixels whose first film layer is missing; of these, only those whose ray crosses the film
+//! the particles themselves span ([`FilmSpan`]) before the hit it found are pinholes. The rest
+//! are holes, torn rims or open edges of the data, drawn as such.
+
+use crate::Result;
+use crate::image::pinholes::{FrontLayer, missing_pixels};
+use crate::io::PartKind;
+use crate::pointcloud::area::own_radii;
+use crate::pointcloud::eigen::sym_eigen3;
+use crate::pointcloud::estimate::estimate_normals;
+use crate::pointcloud::span::FilmSpan;
+use crate::render::RenderOutput;
+use crate::scene::SceneDesc;
+use glam::{DMat3, DVec3, Vec3};
+use rayon::prelude::*;
+use std::path::Path;
+
+use super::Prepared;
+
+/// The pinhole counts of a render `out` of `p` whose film particles `span` describes:
+/// interior pixels (droplets' pixels left out, as the render's own summary does), and the
+/// missing ones where the data holds film in front of whatever the ray found (the front layer
+/// at least a spacing before the hit). Cost: the metric plus one [`FilmSpan::crosses`] per
+/// missing pixel.
+pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) -> FrontLayer {
+    let (w, h) = (p.settings.width, p.settings.height);
+    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
+    let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
+    let aspect = w as f32 / h as f32;
+    let camera = &p.scene.camera;
+    let missing = missing
+        .par_iter()
+        .filter(|&&k| {
+            let ray = camera.ray(
+                ((k % w) as f32 + 0.5) / w as f32,
+                ((k / w) as f32 + 0.5) / h as f32,
+                aspect,
+            );
+            let t_max = match out.depth[k] {
+                d if d > 0.0 => d - span.spacing(),
+                _ => f32::INFINITY,
+            };
+            span.crosses(ray.origin, ray.dir, t_max)
+        })
+        .count();
+    FrontLayer { interior, missing }
+}
+
+/// The film particles of the scene's input as read (droplets and liquid left out): positions,
+/// unit normals (estimated from 12 neighbours where the file has none) and own radii √(A/π)
+/// (0 where no area is stored), for [`FilmSpan`].
+///
+/// # Errors
+/// As [`super::load_parts`].
+pub fn film_particles(desc: &SceneDesc, base: &Path) -> Result<(Vec<Vec3>, Vec<Vec3>, Vec<f32>)> {
+    let (mut positions, mut normals, mut own) = (Vec::new(), Vec::new(), Vec::new());
+    for part in super::load_parts(desc, base)? {
+        if part.kind != PartKind::Film {
+            continue;
+        }
+        let c = part.cloud;
+        let n = match &c.normals {
+            Some(n) => n.iter().map(|v| v.normalize_or_zero()).collect(),
+            None => estimate_normals(&c.positions, 12),
+        };
+        let mut o = own_radii(&c);
+        o.resize(c.len(), 0.0);
+        own.extend(o);
+        normals.extend(n);
+        positions.extend_from_slice(&c.positions);
+    }
+    Ok((positions, normals, own))
+}
+
+/// A `camera.from` direction that sees the film edge-on: 5° above the plane of the cloud's two
+/// longest axes (principal components), on the side of the default camera.
+pub fn edge_on(positions: &[Vec3]) -> [f32; 3] {
+    let n = positions.len().max(1) as f64;
+    let c = positions.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n;
+    let mut m = DMat3::ZERO;
+    for p in positions {
+        let d = p.as_dvec3() - c;
+        m += DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+    }
+    let axis = sym_eigen3(&(m / n)).vectors[0]
+        .as_vec3()
+        .normalize_or(Vec3::Y);
+    let from = Vec3::from(super::framing::DEFAULT_FROM).normalize();
+    let flat = (from - from.dot(axis) * axis).normalize_or(axis.any_orthonormal_vector());
+    let up = if from.dot(axis) < 0.0 { -axis } else { axis };
+    let a = 5f32.to_radians();
+    (a.cos() * flat + a.sin() * up).to_array()
+}

@@ -1,0 +1,129 @@
+//! Straight open edges: a splat on the edge of the film its neighbours span (a free rim, a
+//! rupture front, the edge of a small fragment) is cut by the lines half a spacing outside the
+//! two hull edges beside it, so it can grow to cover its whole share of the film — the corners
+//! of its Voronoi cell, the stretch of edge to its neighbours — without reaching further past
+//! the last particles than the cut lines. Without the cut a disk small enough to stay within
+//! half a spacing of the edge leaves notches between the edge particles (pinholes where a rim
+//! is seen edge-on) and a triangle of film uncovered in the middle of a three-particle fragment.
+
+use glam::{Vec2, Vec3, Vec4};
+
+/// Two half-spaces of a disk's plane, each `(m, k)` as a [`Vec4`] (`m` unit, in the disk's
+/// plane; `k` scene units): the disk keeps the points x with (x − centre)·m ≤ k in both.
+pub type EdgeClip = [Vec4; 2];
+
+/// No cut (both offsets +∞).
+pub const NO_CLIP: EdgeClip = [
+    Vec4::new(0.0, 0.0, 0.0, f32::INFINITY),
+    Vec4::new(0.0, 0.0, 0.0, f32::INFINITY),
+];
+
+/// Whether the point at offset `x` from the disk's centre is kept by `clip`.
+#[inline(always)]
+pub fn keeps(clip: &EdgeClip, x: Vec3) -> bool {
+    clip.iter().all(|c| x.dot(c.truncate()) <= c.w)
+}
+
+/// For a particle at the origin of its tangent plane that is a vertex of its neighbourhood's
+/// hull, between hull vertices `next` and `prev` (counter-clockwise order prev → origin →
+/// next), with sheet neighbours `near`: the outward unit normals of the two hull edges beside
+/// it, the cut's offset (`edge_reach` × the spacing along the edge, less at a corner), and the farthest point
+/// of the two edge strips it covers (half-way to the next particle along each edge, out to
+/// the cut line). The spacing along an edge is the distance to the nearest neighbour within
+/// 14° of the edge's direction (the hull drops particles that lie on its edges, so its next
+/// vertex may be several particles along a straight rim).
+pub fn edge_cut(next: Vec2, prev: Vec2, near: &[Vec2], edge_reach: f32) -> ([Vec2; 2], f32, f32) {
+    let along = |e: Vec2| {
+        let dir = e.normalize();
+        near.iter()
+            .filter(|q| q.dot(dir) > 0.0 && q.perp_dot(dir).abs() <= 0.25 * q.dot(dir))
+            .map(|q| q.length())
+            .fold(e.length(), f32::min)
+    };
+    let (ln, lp) = (along(next), along(prev));
+    let m1 = Vec2::new(next.y, -next.x) / next.length();
+    let m2 = Vec2::new(-prev.y, prev.x) / prev.length();
+    // At a corner the two cut lines meet 1/cos(φ/2) times their offset from the vertex (φ the
+    // angle between the edges' normals): offsets shrink by cos(φ/2) so no point of the splat
+    // lies further than `edge_reach` spacings from the film the particles span.
+    let corner_factor = (0.5 * (1.0 + m1.dot(m2))).max(0.0).sqrt();
+    let reach = edge_reach * ln.min(lp) * corner_factor;
+    let corner = |l: f32| (0.25 * l * l + reach * reach).sqrt();
+    ([m1, m2], reach, corner(ln).max(corner(lp)))
+}
+
+/// The [`EdgeClip`] in 3D of the cut `m` (2D, in the basis `u`, `v` of the tangent plane) at
+/// offset `reach`.
+pub fn to_3d(m: [Vec2; 2], reach: f32, u: Vec3, v: Vec3) -> EdgeClip {
+    m.map(|m| (m.x * u + m.y * v).extend(reach))
+}
+
+/// How far particle i (at the origin, `depth` inside the `hull` of its sheet neighbours
+/// `near`, whose nearest hull edge is `row` long) reaches past the hull, from `reach` (half its
+/// spacing): on the hull, i is cut half the shorter of the hull's edges beside it past them
+/// (the cut's normals and the farthest corner of the edge strips it covers are returned), and
+/// covers its cell and the edge strips to its neighbours' halves. Inside, i reaches at most
+/// half a spacing of that row (or its own) past the nearest hull edge; "half" is
+/// `edge_reach`.
+pub fn reach_and_cut(
+    hull: &[Vec2],
+    near: &[Vec2],
+    depth: f32,
+    row: f32,
+    reach: f32,
+    edge_reach: f32,
+) -> (f32, Option<([Vec2; 2], f32)>) {
+    match hull.iter().position(|h| *h == Vec2::ZERO) {
+        Some(k) if depth == 0.0 => {
+            let (a, b) = (
+                hull[(k + 1) % hull.len()],
+                hull[(k + hull.len() - 1) % hull.len()],
+            );
+            let (m, reach, corner) = edge_cut(a, b, near, edge_reach);
+            (reach, Some((m, corner)))
+        }
+        _ => (reach.min(edge_reach * row), None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cut_follows_the_edges_and_keeps_the_inside() {
+        // A particle at the origin on the bottom edge of a film above the x axis (neighbours at
+        // ±1 along the edge): both cuts face −y, half a spacing out.
+        let (m, reach, corner) = edge_cut(Vec2::X, -Vec2::X, &[Vec2::X, -Vec2::X], 0.5);
+        assert!((m[0] - Vec2::NEG_Y).length() < 1e-6 && (m[1] - Vec2::NEG_Y).length() < 1e-6);
+        assert!((reach - 0.5).abs() < 1e-6 && (corner - 0.5f32.sqrt()).abs() < 1e-6);
+        let clip = to_3d(m, reach, Vec3::X, Vec3::Y);
+        assert!(keeps(&clip, Vec3::new(0.3, 5.0, 0.0)), "inside the film");
+        assert!(
+            keeps(&clip, Vec3::new(0.5, -0.49, 0.0)),
+            "half a spacing out"
+        );
+        assert!(!keeps(&clip, Vec3::new(0.0, -0.51, 0.0)), "beyond the cut");
+        assert!(keeps(&NO_CLIP, Vec3::splat(1e30)));
+        // A corner of a triangle fragment: each cut faces away from its own edge.
+        let (m, _, _) = edge_cut(Vec2::X, Vec2::new(0.5, 0.866), &[], 0.5);
+        assert!((m[0] - Vec2::NEG_Y).length() < 1e-6, "{m:?}");
+        assert!((m[1] - Vec2::new(-0.866, 0.5)).length() < 1e-3, "{m:?}");
+        // A straight rim: the hull's next vertex three particles along, the spacing one.
+        let rim: Vec<Vec2> = (1..4)
+            .flat_map(|k| [k as f32 * Vec2::X, -(k as f32) * Vec2::X])
+            .collect();
+        let (_, reach, _) = edge_cut(3.0 * Vec2::X, -3.0 * Vec2::X, &rim, 0.5);
+        assert!((reach - 0.5).abs() < 1e-6, "{reach}");
+        // The corner of a square film (film in x, y > 0): the cut lines meet half a spacing
+        // from the corner particle, no further.
+        let (m, reach, _) = edge_cut(Vec2::X, Vec2::Y, &[Vec2::X, Vec2::Y, Vec2::ONE], 0.5);
+        let clip = to_3d(m, reach, Vec3::X, Vec3::Y);
+        let meet = Vec3::new(-reach, -reach, 0.0);
+        assert!(
+            keeps(&clip, meet) && (meet.length() - 0.5).abs() < 1e-5,
+            "{meet}"
+        );
+        assert!(!keeps(&clip, 1.01 * meet));
+    }
+}
