@@ -107,7 +107,8 @@ fn real_sph_files_render() {
     // centroid and mean colour are those recorded from it (a regression in reading, estimating,
     // framing or shading moves them; the mean colours were recorded again when the default
     // studio became a dark ground under a diffuse dome, and the dam break's disks once the radius
-    // fit stopped splats at the edges of its sparse splashes).
+    // fit stopped splats at the edges of its sparse splashes; its MLS once the MLS supports at
+    // open edges stayed within half a rim spacing: coverage 0.111 -> 0.103).
     let recorded: [(&str, &str, Stats); 6] = [
         (
             "splishsplash_sphere_shell.ply",
@@ -137,7 +138,7 @@ fn real_sph_files_render() {
         (
             "double_dam_break_frame_26.ply",
             "mls",
-            (0.111, [0.497, 0.601], [0.0979, 0.0587, 0.0301]),
+            (0.103, [0.495, 0.588], [0.0889, 0.0541, 0.0291]),
         ),
     ];
     for (file, prim, want) in recorded {
