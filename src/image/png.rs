@@ -78,10 +78,10 @@ pub struct Srgb8Image {
     pub data: Vec<u8>,
 }
 
-/// Reads a PNG (any bit depth or colour type the `image` crate decodes) as its 8-bit sRGB
-/// pixels; alpha is dropped (the second value says whether there was any).
-pub fn read_png_srgb8(path: &Path) -> Result<(Srgb8Image, bool)> {
-    let img = ::image::ImageReader::open(path)
+/// Decodes the PNG at `path` (any bit depth or colour type the `image` crate decodes); errors
+/// name the file.
+fn decode(path: &Path) -> Result<::image::DynamicImage> {
+    ::image::ImageReader::open(path)
         .map_err(|e| Error::io(path, e))?
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?
@@ -90,7 +90,13 @@ pub fn read_png_srgb8(path: &Path) -> Result<(Srgb8Image, bool)> {
             path: path.into(),
             format: "PNG",
             message: e.to_string(),
-        })?;
+        })
+}
+
+/// Reads a PNG (any bit depth or colour type the `image` crate decodes) as its 8-bit sRGB
+/// pixels; alpha is dropped (the second value says whether there was any).
+pub fn read_png_srgb8(path: &Path) -> Result<(Srgb8Image, bool)> {
+    let img = decode(path)?;
     let alpha = img.color().has_alpha();
     let img = img.to_rgb8();
     let (width, height) = (img.width() as usize, img.height() as usize);
@@ -112,13 +118,7 @@ pub fn read_png(path: &Path) -> Result<RgbImage> {
         format: "PNG",
         message: e,
     };
-    let img = ::image::ImageReader::open(path)
-        .map_err(|e| Error::io(path, e))?
-        .with_guessed_format()
-        .map_err(|e| Error::io(path, e))?
-        .decode()
-        .map_err(|e| bad(e.to_string()))?
-        .to_rgb8();
+    let img = decode(path)?.to_rgb8();
     let (w, h) = (img.width() as usize, img.height() as usize);
     // The decoder stops at its own limit (512 MiB); the linear copy is 4x the 8-bit image.
     crate::budget::check((w * h * 12) as u64, || {

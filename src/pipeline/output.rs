@@ -132,8 +132,6 @@ pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
 /// Writes a view (from [`render_view`], colour bar included): PNG (clamp tone curve, 0 EV), or
 /// EXR holding the same picture in linear RGB.
 pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
-    let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
-    let img = RgbImage::from_data(v.width, v.height, data)?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -144,6 +142,8 @@ pub fn write_view(v: &ViewImage, path: &Path) -> Result<()> {
             write_png(path, px.width, px.height, &px.data)
         }
         Some("exr") => {
+            let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
+            let img = RgbImage::from_data(v.width, v.height, data)?;
             let rgba = img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
             write_exr(path, &ExrLayers::rgba(v.width, v.height, rgba))
         }

@@ -153,26 +153,14 @@ pub fn fit_radii_indexed(
     radii: &mut [f32],
     table: Option<&KnnTable>,
 ) -> GapReport {
-    fit_radii_owned(index, positions, normals, radii, table, &[])
+    fit_radii_clipped(index, positions, normals, radii, table, &[]).0
 }
 
 /// [`fit_radii_indexed`] knowing each particle's own size `own` (the radius of its area, from
 /// [`area_radii`]; empty or 0 where unknown): isolated particles are drawn at it, and no
-/// radius grows beyond [`AREA_GROWTH`] times it.
-pub fn fit_radii_owned(
-    index: &PointIndex,
-    positions: &[Vec3],
-    normals: &[Vec3],
-    radii: &mut [f32],
-    table: Option<&KnnTable>,
-    own: &[f32],
-) -> GapReport {
-    fit_radii_clipped(index, positions, normals, radii, table, own).0
-}
-
-/// [`fit_radii_owned`], also returning each splat's cut at the open edge it lies on
-/// ([`super::clip`]; [`NO_CLIP`] elsewhere, and for all when nothing was fitted: then the
-/// list is empty). A splat drawn without its cut may leave notches at open edges.
+/// radius grows beyond [`AREA_GROWTH`] times it; also returning each splat's cut at the open
+/// edge it lies on ([`super::clip`]; [`NO_CLIP`] elsewhere, and for all when nothing was
+/// fitted: then the list is empty). A splat drawn without its cut may leave notches at open edges.
 pub fn fit_radii_clipped(
     index: &PointIndex,
     positions: &[Vec3],
