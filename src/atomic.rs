@@ -65,7 +65,7 @@ fn write_and_sync(
 }
 
 /// The start of every temporary's name for target file name `name`: `.NAME.tmp-`, or, for a
-/// name longer than [`MAX_KEPT_NAME`] bytes, `.HEAD~HASH.tmp-` (HEAD: the name's first 180
+/// name longer than `MAX_KEPT_NAME` bytes, `.HEAD~HASH.tmp-` (HEAD: the name's first 180
 /// bytes or fewer, cut at a character; HASH: 16 hex digits of the whole name's FNV-1a hash),
 /// so the temporary of any legal name is a legal name too.
 pub fn temp_prefix(name: &str) -> String {

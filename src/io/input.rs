@@ -119,7 +119,7 @@ pub(crate) fn read_all(
 /// `max_bytes`, refusing devices and anything longer.
 ///
 /// # Errors
-/// As [`read_all`]; [`Error::Format`] if it holds more than `max_bytes`.
+/// As `read_all`; [`Error::Format`] if it holds more than `max_bytes`.
 pub fn read_small(path: &Path, max_bytes: u64) -> Result<Vec<u8>> {
     if let Kind::File(len) = kind(path)?
         && len > max_bytes

@@ -2,10 +2,10 @@
 //! (strings, optional keys, from a scene file and the command line's flags) into a
 //! [`RenderConfig`]: every enum parsed, every default applied, every number checked, each error
 //! naming its key. It is the one place that validates the description; the stages after it
-//! ([`super::load`], [`super::build`], [`super::output`]) take the typed values.
+//! (`load`, `build`, `output`) take the typed values.
 //!
 //! `[input]` and `film.thickness_unit` are checked when the particles are loaded
-//! ([`super::load`]): a cloud given in memory replaces them. Lights and props are checked as
+//! (`load`): a cloud given in memory replaces them. Lights and props are checked as
 //! they are built (their defaults depend on the loaded scene's centre).
 
 use crate::geometry::Primitive;
@@ -248,7 +248,7 @@ fn film(d: &SceneDesc, ior: f32, primitive: Primitive, preset: Preset) -> Result
 }
 
 /// The image size a scene renders at, (width, height) pixels: `[render]`'s, 960×540 where
-/// unset (as [`settings`] decides it; checked there).
+/// unset (as `settings` decides it; checked there).
 pub fn image_size(d: &SceneDesc) -> (usize, usize) {
     (
         d.render.width.unwrap_or(960),

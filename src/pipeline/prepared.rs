@@ -12,7 +12,7 @@ pub struct Prepared {
     /// Geometry, camera and light.
     pub scene: Scene,
     /// What auto-framing frames of this cloud (used for the camera unless the scene names a
-    /// position; a sequence frames once, see [`framing`]).
+    /// position; a sequence frames once, see `framing`).
     pub framing: Framing,
     /// Width / height of the part of the image the scene fills (the image without a view's
     /// colour bar): the aspect auto-framing frames for.

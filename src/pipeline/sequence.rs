@@ -148,7 +148,7 @@ pub struct SequenceOptions {
 }
 
 /// Renders the sequence: checks every output name and folder of this shard first, decides the
-/// one camera ([`sequence_camera`]) before the first frame it renders, then renders its
+/// one camera (`sequence_camera`) before the first frame it renders, then renders its
 /// shard's frames, skipping finished ones (resume) and going on after failures (keep-going).
 /// Progress goes to `out`, failures kept going past to `err`.
 ///

@@ -78,7 +78,7 @@ impl<'a> FilmSpan<'a> {
 
     /// Whether the ray `origin + t·dir` (`dir` unit) crosses the particles' film at some
     /// 0 < t < `t_max` (see the module docs). Cost: O(length / spacing) neighbour searches,
-    /// plus a hull of [`HULL_NEIGHBOURS`] for each particle passed.
+    /// plus a hull of `HULL_NEIGHBOURS` for each particle passed.
     pub fn crosses(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         let s = self.spacing;
         if s.is_nan() || s <= 0.0 || self.positions.len() != self.normals.len() || !dir.is_finite()

@@ -8,7 +8,7 @@
 //! keeps a white furnace exactly white and the image free of path-tracing noise.
 //!
 //! The studio ([`Staging`](super::Staging)) adds area lights, which rays meet before the environment, and
-//! opaque props, shaded by light sampling (see [`super::transport`]). The transport is written
+//! opaque props, shaded by light sampling (see `transport`). The transport is written
 //! once, generic over RGB and spectral radiance; `--shading spectral` runs the spectral
 //! instance, the other modes the RGB one.
 

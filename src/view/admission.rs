@@ -1,7 +1,7 @@
 //! Who may hold a connection of the preview server, and for how long.
 //!
-//! A connection starts *pending*: it has until its deadline ([`App::request_deadline`]
-//! (super::App::request_deadline), 10 s, counted from its opening) to send one whole request.
+//! A connection starts *pending*: it has until its deadline (`App::request_deadline`, 10 s,
+//! counted from its opening) to send one whole request.
 //! Pending connections have a quota of their own ([`MAX_PENDING`]); when it is full, a new
 //! connection closes the oldest pending one, so clients that trickle bytes (slowloris) can
 //! delay nobody for long and can never fill the slots of token holders. A connection whose

@@ -31,7 +31,7 @@ impl MlsSurface {
     /// The first crossing of the surface with `t_min < t < t_max`. `t_exit` is the far end of the
     /// final bracket (at most 10⁻³ radii beyond `t`), so a ray continued from
     /// `t_exit + eps` never finds the same crossing again. Cost: one near-first BVH traversal
-    /// collecting the support spheres the ray crosses within [`WINDOW`] support radii of the
+    /// collecting the support spheres the ray crosses within `WINDOW` support radii of the
     /// first one (all of them only when the first crossing lies beyond; none when the query
     /// continues the previous one on this thread along the same ray, whose spheres are kept),
     /// then per support interval O(spheres) to bound where the tangent planes allow a crossing

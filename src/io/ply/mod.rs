@@ -167,14 +167,14 @@ fn read_from<R: Read>(
     Ok(out.into_cloud(plan, opts.thickness_scale(1.0)))
 }
 
-/// Reads the PLY mesh at `path`: element `vertex` as [`read`] reads it (positions, normals,
+/// Reads the PLY mesh at `path`: element `vertex` as `read_file` reads it (positions, normals,
 /// thickness by the same aliases, extras), and element `face`, whose list property
 /// `vertex_indices` (or `vertex_index`) gives each polygon's vertices. Polygons are
 /// fan-triangulated; faces with fewer than three vertices are skipped. `face` must come after
 /// `vertex` (as every writer puts it); other elements are skipped.
 ///
 /// # Errors
-/// As [`read`], plus [`Error::Format`] if there is no `face` element or index list, an index
+/// As `read_file`, plus [`Error::Format`] if there is no `face` element or index list, an index
 /// is not an integer or is beyond the vertex count (naming the face).
 pub fn read_mesh(path: &Path, opts: &ReadOptions) -> Result<TriangleMesh> {
     opts.check()?;
