@@ -1,9 +1,9 @@
-//! Text rendering: placement, extent, anchors, rotation; plus an optional visual test card
-//! (set FILMSPLAT_TEXTCARD=/path/card.png to write it).
+//! Text rendering: placement, extent, anchors, rotation, distinct glyphs, size scaling, and
+//! colour-independent anti-aliasing.
 
 use filmsplat::image::{
-    Anchor, HAlign, RgbImage, ToneMap, VAlign, draw_line, draw_text, draw_text_vertical, fill_rect,
-    font_metrics, linear_to_srgb, save_png, stroke_rect, text_width, viridis,
+    Anchor, HAlign, RgbImage, VAlign, draw_text, draw_text_vertical, font_metrics, linear_to_srgb,
+    text_width,
 };
 
 const WHITE: [f32; 3] = [1.0; 3];
@@ -228,118 +228,104 @@ fn degenerate_input_draws_nothing_and_does_not_panic() {
     assert_eq!(text_width("€", 10.0), text_width("?", 10.0));
 }
 
-/// Writes a visual test card when FILMSPLAT_TEXTCARD is set (for looking at the typesetting).
+/// The ink of `text` drawn black on white at `size` px, baseline-left at (8, 1.5 size), as a
+/// coverage mask (1 - sRGB value) cropped to its ink box, with that box's size.
+fn glyph_mask(text: &str, size: f32) -> (usize, usize, Vec<u8>) {
+    let w = text_width(text, size);
+    let mut img = RgbImage::filled((w + 16.0) as usize, (2.0 * size) as usize + 8, WHITE);
+    draw_text(
+        &mut img,
+        8.0,
+        size * 1.5,
+        text,
+        size,
+        INK,
+        Anchor::BASELINE_LEFT,
+    );
+    let (x0, y0, x1, y1) = ink_box(&img, 0.5).unwrap();
+    let mask = (y0..=y1)
+        .flat_map(|y| (x0..=x1).map(move |x| (x, y)))
+        .map(|(x, y)| u8::from(linear_to_srgb(img.get(x, y)[0]) < 0.5))
+        .collect();
+    (x1 + 1 - x0, y1 + 1 - y0, mask)
+}
+
+/// Every digit, and the letters most easily confused with digits, draw a glyph of their own:
+/// tick labels must read. Digits sit between the baseline and the cap height (no descender).
 #[test]
-fn text_card() {
-    let mut img = RgbImage::filled(1000, 720, WHITE);
-    let sample = "Film thickness (nm) 0 250 500 λ = 550 nm θ = 45° Hg 1500 nm 3–5 µm";
-    let mut y = 14.0;
-    for size in [
-        9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 16.0, 18.0, 20.0, 22.0, 24.0, 28.0, 32.0,
-    ] {
-        let m = font_metrics(size);
-        y += m.ascent;
-        draw_text(
-            &mut img,
-            80.0,
-            y,
-            &format!("{size}px"),
-            11.0,
-            [0.4; 3],
-            Anchor::BASELINE_RIGHT,
-        );
-        draw_text(&mut img, 90.0, y, sample, size, INK, Anchor::BASELINE_LEFT);
-        y += m.descent + 4.0;
+fn digits_and_confusable_letters_draw_distinct_glyphs() {
+    let size = 20.0;
+    let m = font_metrics(size);
+    let chars = "0123456789OoISZBg"; // l and I are one stroke in this sans face
+    let masks: Vec<(char, (usize, usize, Vec<u8>))> = chars
+        .chars()
+        .map(|c| (c, glyph_mask(&c.to_string(), size)))
+        .collect();
+    for (i, (a, ma)) in masks.iter().enumerate() {
+        for (b, mb) in &masks[i + 1..] {
+            assert_ne!(ma, mb, "'{a}' and '{b}' draw the same glyph");
+        }
     }
-    // Light text on dark.
-    y = y.round();
-    fill_rect(&mut img, 0.0, y, 1000.0, y + 40.0, [0.02, 0.02, 0.03]);
-    draw_text(
-        &mut img,
-        90.0,
-        y + 20.0,
-        "Light on dark: AVAWAY Wave 0.18 = mid-grey, Ta To",
-        16.0,
-        WHITE,
-        Anchor::MIDDLE_LEFT,
-    );
-    y += 50.0;
-    // A small chart: frame, ticks, labels, vertical label, viridis bar.
-    let (x0, y0, x1, y1) = (150.0, y + 20.0, 700.0, y + 260.0);
-    stroke_rect(&mut img, x0 + 0.5, y0 + 0.5, x1 - 0.5, y1 - 0.5, 1.0, INK);
-    for i in 0..=4 {
-        let x = (x0 + (x1 - x0) * i as f32 / 4.0).round() + 0.5;
-        draw_line(&mut img, x, y1, x, y1 + 6.0, 1.0, INK);
-        draw_text(
-            &mut img,
-            x,
-            y1 + 8.0,
-            &format!("{}", i * 250),
-            13.0,
-            INK,
-            Anchor::TOP_CENTRE,
-        );
-        let yy = (y0 + (y1 - y0) * i as f32 / 4.0).round() + 0.5;
-        draw_line(&mut img, x0 - 6.0, yy, x0, yy, 1.0, INK);
-        draw_text(
-            &mut img,
-            x0 - 9.0,
-            yy,
-            &format!("{}°", 80 - 20 * i),
-            13.0,
-            INK,
-            Anchor::MIDDLE_RIGHT,
+    for (c, (_, h, mask)) in &masks[..10] {
+        let ink: usize = mask.iter().map(|&v| v as usize).sum();
+        assert!(ink >= 15, "'{c}': only {ink} inked pixels at {size} px");
+        let want = m.cap_height;
+        assert!(
+            (*h as f32 - want).abs() <= 2.0,
+            "'{c}': ink {h} px tall, cap height {want}"
         );
     }
-    draw_line(&mut img, x0, y1, x1, y0, 1.5, [0.8, 0.1, 0.05]);
-    draw_text(
-        &mut img,
-        (x0 + x1) / 2.0,
-        y1 + 44.0,
-        "Film thickness (nm)",
-        16.0,
-        INK,
-        Anchor::BASELINE_CENTRE,
-    );
-    draw_text_vertical(
-        &mut img,
-        95.0,
-        (y0 + y1) / 2.0,
-        "Angle of incidence θ (°)",
-        16.0,
-        INK,
-        Anchor::CENTRE,
-    );
-    let (bx0, bx1) = (780.0, 810.0);
-    for j in y0 as usize..y1 as usize {
-        let t = 1.0 - (j as f32 + 0.5 - y0) / (y1 - y0);
-        fill_rect(&mut img, bx0, j as f32, bx1, j as f32 + 1.0, viridis(t));
+    // '1' is the narrowest digit's ink; '0' and '8' are closed (wider than '1').
+    let width = |c: char| masks.iter().find(|(x, _)| *x == c).unwrap().1.0;
+    assert!(width('1') < width('0') && width('1') < width('8'));
+}
+
+/// Ink grows with the square of the size: doubling the size doubles the ink box's sides and
+/// quadruples the inked area (within the rounding of the edges).
+#[test]
+fn ink_area_scales_with_the_square_of_the_size() {
+    for text in ["Film 250 nm", "WAVE", "0123456789"] {
+        let (w1, h1, m1) = glyph_mask(text, 14.0);
+        let (w2, h2, m2) = glyph_mask(text, 28.0);
+        let area = |m: &[u8]| m.iter().map(|&v| v as f32).sum::<f32>();
+        let ratio = area(&m2) / area(&m1);
+        assert!((3.3..4.7).contains(&ratio), "{text}: area ratio {ratio}");
+        let (rw, rh) = (w2 as f32 / w1 as f32, h2 as f32 / h1 as f32);
+        assert!((1.85..2.15).contains(&rw), "{text}: width ratio {rw}");
+        assert!((1.8..2.2).contains(&rh), "{text}: height ratio {rh}");
     }
-    stroke_rect(&mut img, bx0 - 0.5, y0 - 0.5, bx1 + 0.5, y1 + 0.5, 1.0, INK);
-    for i in 0..=4 {
-        let yy = (y1 - (y1 - y0) * i as f32 / 4.0).round() - 0.5;
-        draw_line(&mut img, bx1, yy, bx1 + 5.0, yy, 1.0, INK);
-        draw_text(
-            &mut img,
-            bx1 + 8.0,
-            yy,
-            &format!("{} nm", 200 * i),
-            13.0,
-            INK,
-            Anchor::MIDDLE_LEFT,
-        );
+}
+
+/// Text is an alpha blend in sRGB values: with the coverage `a` measured from black on white
+/// (1 - value), white on black gives `a` and any colour `c` on white gives `c a + (1 - a)` at
+/// every pixel: anti-aliasing does not depend on the colour.
+#[test]
+fn coverage_is_the_same_for_every_colour() {
+    let (w, h) = (160, 40);
+    let text = "Ta To 3-5 AVAWAY";
+    let draw = |bg: [f32; 3], ink: [f32; 3]| {
+        let mut img = RgbImage::filled(w, h, bg);
+        draw_text(&mut img, 4.3, 27.0, text, 17.0, ink, Anchor::BASELINE_LEFT);
+        img
+    };
+    let black_on_white = draw(WHITE, INK);
+    let white_on_black = draw(INK, WHITE);
+    let red = [0.8, 0.1, 0.05];
+    let red_on_white = draw(WHITE, red);
+    let red_srgb = red.map(linear_to_srgb);
+    let mut partial = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let a = 1.0 - linear_to_srgb(black_on_white.get(x, y)[0]);
+            let b = linear_to_srgb(white_on_black.get(x, y)[0]);
+            assert!((a - b).abs() < 2e-3, "({x},{y}): {a} vs {b}");
+            for (k, &c) in red_srgb.iter().enumerate() {
+                let got = linear_to_srgb(red_on_white.get(x, y)[k]);
+                let want = c * a + (1.0 - a);
+                assert!((got - want).abs() < 2e-3, "({x},{y})[{k}]: {got} vs {want}");
+            }
+            partial += usize::from(a > 0.05 && a < 0.95);
+        }
     }
-    draw_text_vertical(
-        &mut img,
-        900.0,
-        (y0 + y1) / 2.0,
-        "Thickness",
-        14.0,
-        INK,
-        Anchor::CENTRE,
-    );
-    assert!(ink_box(&img, 0.5).is_some());
-    if let Ok(path) = std::env::var("FILMSPLAT_TEXTCARD") {
-        save_png(std::path::Path::new(&path), &img, 0.0, ToneMap::Clamp).unwrap();
-    }
+    assert!(partial > 50, "anti-aliased edges: {partial} partial pixels");
 }
