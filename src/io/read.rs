@@ -43,6 +43,31 @@ fn parse_of(format: CloudFormat) -> Option<Parse> {
 /// # Errors
 /// As [`detect_format`] and the format's reader: every error names the file, the format and
 /// the problem.
+///
+/// # Example
+/// A three-particle ASCII PLY with a thickness column (nanometres, the default unit):
+/// ```
+/// use filmsplat::io::{ReadOptions, read_cloud};
+/// let dir = std::env::temp_dir().join(format!("filmsplat-doc-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("three.ply");
+/// std::fs::write(
+///     &path,
+///     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+///      property float z\nproperty float thickness\nend_header\n\
+///      0 0 0 500\n1 0 0 520\n0 1 0 540\n",
+/// )?;
+/// let cloud = read_cloud(&path, &ReadOptions::default())?;
+/// assert_eq!(cloud.len(), 3);
+/// assert_eq!(cloud.positions[1], glam::Vec3::X);
+/// assert_eq!(cloud.thickness_nm.as_deref(), Some(&[500.0, 520.0, 540.0][..]));
+/// // A truncated file is an error naming the file, not a panic.
+/// std::fs::write(&path, "ply\nformat ascii 1.0\nelement vertex 3\n")?;
+/// let err = read_cloud(&path, &ReadOptions::default()).unwrap_err();
+/// assert!(err.to_string().contains("three.ply"), "{err}");
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn read_cloud(path: &Path, opts: &ReadOptions) -> Result<PointCloud> {
     read_cloud_described(path, opts).map(|(c, _)| c)
 }

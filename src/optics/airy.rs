@@ -102,6 +102,24 @@ impl FilmRT {
 /// Limits: `thickness_nm == 0` is no film (R = 0, T = 1, at every angle); `cos_i == 0` is
 /// grazing incidence (R = 1, T = 0, except at an exact transmission resonance where R = 0).
 /// Cost: about 60 ns (two `sin_cos`, complex divisions).
+///
+/// # Example
+/// A lossless film conserves energy, and a quarter-wave film at normal incidence reflects the
+/// textbook maximum ((n² − 1)/(n² + 1))² (Hecht, *Optics*, §9.7):
+/// ```
+/// use filmsplat::optics::film_rt;
+/// let (n, h) = (1.33, 100.0); // water film, nm
+/// let quarter_wave = 4.0 * n * h; // 532 nm
+/// let rt = film_rt(1.0, h, n, quarter_wave);
+/// let peak = ((n * n - 1.0) / (n * n + 1.0)).powi(2);
+/// assert!((rt.r() - peak).abs() < 1e-9, "R = {}", rt.r());
+/// for cos_i in [1.0, 0.7, 0.2] {
+///     let rt = film_rt(cos_i, 730.0, n, 480.0);
+///     assert!((rt.r() + rt.t() - 1.0).abs() < 1e-12);
+/// }
+/// // A half-wave film is invisible: R = 0.
+/// assert!(film_rt(1.0, h, n, 2.0 * n * h).r() < 1e-12);
+/// ```
 pub fn film_rt(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: f64) -> FilmRT {
     let (n0, n1) = (1.0, ior);
     let c0 = cos_i.clamp(0.0, 1.0);

@@ -54,6 +54,36 @@ pub struct RenderOutput {
 const TILE: usize = 16;
 
 /// Renders `scene` with `shader` and `settings`. Deterministic for a given seed.
+///
+/// # Example
+/// A lossless film in a uniform sky: what it reflects plus what it transmits is the sky
+/// (R + T = 1), so every pixel is the sky's colour, whatever the film's thickness:
+/// ```
+/// use filmsplat::geometry::DiskGeometry;
+/// use filmsplat::render::{
+///     Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, Staging, render,
+/// };
+/// use filmsplat::spectrum::WavelengthStrategy;
+/// use glam::Vec3;
+/// let sky = Vec3::new(0.2, 0.5, 0.9);
+/// let film = DiskGeometry::build(&[Vec3::ZERO], &[Vec3::Z], &[10.0], &[400.0])?;
+/// let scene = Scene {
+///     geometry: film.into(),
+///     camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 30.0),
+///     environment: Environment::Uniform(sky),
+///     layer_skip: 1e-3,
+///     epsilon: 1e-5,
+///     staging: Staging::default(),
+/// };
+/// let shader = FilmShader::new(1.33, ShadingMode::Lut, 16, WavelengthStrategy::Jittered);
+/// let settings = RenderSettings { width: 8, height: 6, spp: 1, ..RenderSettings::default() };
+/// let out = render(&scene, &shader, &settings)?;
+/// for (c, a) in out.rgb.iter().zip(&out.alpha) {
+///     assert!((*c - sky).abs().max_element() < 2e-3, "{c}");
+///     assert_eq!(*a, 1.0, "the film fills the view");
+/// }
+/// # Ok::<(), filmsplat::Error>(())
+/// ```
 pub fn render(
     scene: &World,
     shader: &FilmShader,

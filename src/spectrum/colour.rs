@@ -8,6 +8,18 @@ pub const XYZ_TO_LINEAR_SRGB: [[f64; 3]; 3] = [
 ];
 
 /// Converts CIE XYZ to linear sRGB.
+///
+/// # Example
+/// The D65 white point (the sRGB white) maps to linear (1, 1, 1); encoded, 18 % grey is the
+/// familiar 46 % (118 of 255):
+/// ```
+/// use filmsplat::spectrum::{linear_to_srgb, srgb_to_linear, xyz_to_linear_srgb};
+/// let white = xyz_to_linear_srgb([0.950_47, 1.0, 1.088_83]);
+/// assert!(white.iter().all(|c| (c - 1.0).abs() < 1e-3), "{white:?}");
+/// let grey = linear_to_srgb(0.18);
+/// assert_eq!((grey * 255.0).round(), 118.0);
+/// assert!((srgb_to_linear(grey) - 0.18).abs() < 1e-6);
+/// ```
 pub fn xyz_to_linear_srgb(xyz: [f64; 3]) -> [f64; 3] {
     let m = &XYZ_TO_LINEAR_SRGB;
     [0, 1, 2].map(|r| m[r][0] * xyz[0] + m[r][1] * xyz[1] + m[r][2] * xyz[2])

@@ -32,6 +32,27 @@ pub fn reference_grid_nm() -> Vec<f64> {
 /// Reference colour (linear sRGB) of D65 light reflected by a film, in f64 with the Airy
 /// reference, summed over the wavelengths `lambda_nm` (use [`reference_grid_nm`] for the 1 nm
 /// standard). Normalised so a perfect reflector gives exactly (1, 1, 1).
+///
+/// # Example
+/// The colour `filmsplat film` prints. Its luminance is a mean of the film's reflectance over
+/// the wavelengths weighted by the eye's (positive) sensitivity, so it lies within the
+/// reflectance's range; no film reflects nothing; a 30 nm film (far thinner than a quarter
+/// wave) reflects R ∝ 1/λ²: blue most, red least:
+/// ```
+/// use filmsplat::optics::film_rt;
+/// use filmsplat::spectrum::{film_rgb_reference, reference_grid_nm};
+/// let grid = reference_grid_nm();
+/// for h in [30.0, 100.0, 450.0] {
+///     let [r, g, b] = film_rgb_reference(1.0, h, 1.33, &grid);
+///     let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+///     let rs: Vec<f64> = grid.iter().map(|&l| film_rt(1.0, h, 1.33, l).r()).collect();
+///     let (lo, hi) = rs.iter().fold((1.0f64, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+///     assert!(lo - 1e-3 <= y && y <= hi + 1e-3, "{h} nm: Y {y} outside {lo}..{hi}");
+/// }
+/// let rgb = film_rgb_reference(1.0, 30.0, 1.33, &grid);
+/// assert!(rgb[2] > rgb[1] && rgb[1] > rgb[0], "{rgb:?}");
+/// assert_eq!(film_rgb_reference(1.0, 0.0, 1.33, &grid), [0.0; 3]);
+/// ```
 pub fn film_rgb_reference(cos_i: f64, thickness_nm: f64, ior: f64, lambda_nm: &[f64]) -> [f64; 3] {
     let mut sum = [0.0; 3];
     let mut white = [0.0; 3];
