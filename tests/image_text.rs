@@ -228,9 +228,12 @@ fn degenerate_input_draws_nothing_and_does_not_panic() {
     assert_eq!(text_width("€", 10.0), text_width("?", 10.0));
 }
 
+/// A glyph's ink: the ink box's width and height, pixels, and its pixels inked (1) or not.
+type Mask = (usize, usize, Vec<u8>);
+
 /// The ink of `text` drawn black on white at `size` px, baseline-left at (8, 1.5 size), as a
 /// coverage mask (1 - sRGB value) cropped to its ink box, with that box's size.
-fn glyph_mask(text: &str, size: f32) -> (usize, usize, Vec<u8>) {
+fn glyph_mask(text: &str, size: f32) -> Mask {
     let w = text_width(text, size);
     let mut img = RgbImage::filled((w + 16.0) as usize, (2.0 * size) as usize + 8, WHITE);
     draw_text(
@@ -257,7 +260,7 @@ fn digits_and_confusable_letters_draw_distinct_glyphs() {
     let size = 20.0;
     let m = font_metrics(size);
     let chars = "0123456789OoISZBg"; // l and I are one stroke in this sans face
-    let masks: Vec<(char, (usize, usize, Vec<u8>))> = chars
+    let masks: Vec<(char, Mask)> = chars
         .chars()
         .map(|c| (c, glyph_mask(&c.to_string(), size)))
         .collect();
