@@ -81,7 +81,7 @@ fn sphere_presets_play_roulette_unless_told_otherwise() {
         let text = format!("[input]\nsample = \"bubble\"\nparticles = 2000\n{extra}");
         let desc = SceneDesc::from_toml(&text, "test.toml").unwrap();
         let p = prepare(&desc, root, false).unwrap();
-        assert_eq!(p.settings.roulette, want, "{extra}");
+        assert_eq!(p.shot.settings.roulette, want, "{extra}");
     }
 }
 
