@@ -71,7 +71,7 @@ pub use visibility::colour_visibility_of;
 use crate::Result;
 use crate::io::CloudPart;
 use crate::pointcloud::PointCloud;
-use crate::render::{FilmShader, RenderOutput, RenderSettings, Scene, Studio, WorldRef};
+use crate::render::{Camera, FilmShader, RenderOutput, RenderSettings, Scene, Studio, WorldRef};
 use crate::scene::SceneDesc;
 use build::Tolerances;
 use std::path::Path;
@@ -142,18 +142,7 @@ pub fn prepare_staged(
     // environment as prepared, for every render of the default shot).
     let turn_deg = desc.environment.turn_deg;
     let turned = (turn_deg != 0.0).then(|| (turn_deg, prepared::turned(&environment, turn_deg)));
-    let shot = Shot {
-        camera,
-        turn_deg,
-        view: config.view,
-        settings: RenderSettings {
-            progress: progress == Progress::Bar,
-            ..config.settings
-        },
-        exposure: config.output.exposure_ev,
-        tonemap: config.output.tonemap,
-        grade: config.output.grade,
-    };
+    let shot = default_shot(&config, camera, turn_deg, progress);
     Ok(Prepared {
         scene: Scene {
             geometry,
@@ -177,6 +166,22 @@ pub fn prepare_staged(
         build_time,
         notes,
     })
+}
+
+/// The picture `config` describes, from `camera`, its light turned `turn_deg` degrees.
+fn default_shot(config: &RenderConfig, camera: Camera, turn_deg: f32, progress: Progress) -> Shot {
+    Shot {
+        camera,
+        turn_deg,
+        view: config.view,
+        settings: RenderSettings {
+            progress: progress == Progress::Bar,
+            ..config.settings.clone()
+        },
+        exposure: config.output.exposure_ev,
+        tonemap: config.output.tonemap,
+        grade: config.output.grade,
+    }
 }
 
 /// The film shader `config` asks for.
