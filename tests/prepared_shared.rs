@@ -112,3 +112,38 @@ fn a_render_runs_to_the_end_while_another_of_the_same_scene_is_in_flight() {
         assert!(bits(&small) == bits(&pipeline::render(&p, &side).unwrap()));
     });
 }
+
+#[test]
+fn a_shot_from_another_camera_and_size_renders_what_a_fresh_preparation_renders() {
+    // Droplets (865 on this frame of a bursting bubble, most smaller than a pixel) are grown
+    // to the pixel footprints of the camera and height each shot renders with, as preparing
+    // the scene for that camera and size would grow them.
+    let frame =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/thin-film-sph/bursting_bubble/100");
+    let scene = |camera: &str, size: &str| {
+        let toml = format!(
+            "[input]\ncloud = {:?}\n[render]\n{size}spp = 1\n{camera}",
+            frame.display().to_string()
+        );
+        SceneDesc::from_toml(&toml, "droplets.toml").unwrap()
+    };
+    let desc = scene("", "width = 64\nheight = 48\n");
+    let p = pipeline::prepare(&desc, Path::new("."), false).unwrap();
+    assert!(p.droplets > 800, "{} droplets", p.droplets);
+    let camera = "[camera]\nposition = [0.2, 0.9, 1.6]\nlook_at = [0, 0.1, 0]\nfov = 25\n";
+    let fresh_desc = scene(camera, "width = 96\nheight = 64\n");
+    let fresh = pipeline::prepare(&fresh_desc, Path::new("."), false).unwrap();
+    let mut shot = p.aimed(&fresh_desc).unwrap();
+    (shot.settings.width, shot.settings.height) = (96, 64);
+    let out = pipeline::render(&p, &shot).unwrap();
+    let want = pipeline::render(&fresh, &fresh.shot).unwrap();
+    assert!(
+        out.droplets.iter().any(|&c| c > 0.0 && c < 1.0),
+        "droplets smaller than a pixel"
+    );
+    assert!(
+        bits(&out) == bits(&want),
+        "the shot differs from a fresh preparation"
+    );
+    assert!(out.droplets == want.droplets);
+}
