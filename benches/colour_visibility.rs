@@ -74,7 +74,7 @@ fn main() {
                 continue;
             }
         };
-        let out = render(&p).unwrap();
+        let out = render(&p, &p.shot).unwrap();
         let v = colour_visibility_of(&p, &out);
         let pct = |n: usize| 100.0 * n as f64 / v.film_pixels.max(1) as f64;
         let name = input
@@ -93,7 +93,7 @@ fn main() {
         if let Some(dir) = &png_dir {
             std::fs::create_dir_all(dir).unwrap();
             let file = name.trim_start_matches('/').replace(['/', '.'], "_") + ".png";
-            write_image(&p, &out, &dir.join(file)).unwrap();
+            write_image(&p.shot, &out, &dir.join(file)).unwrap();
         }
     }
 }

@@ -202,7 +202,7 @@ fn main() {
         let (rate, hits) = primary(&p, w, h);
         let cpu = primary_cpu(&p, w, h).map_or("?".to_string(), |r| format!("{r:.2}"));
         let t = Instant::now();
-        let out = pipeline::render(&p).unwrap();
+        let out = pipeline::render(&p, &p.shot).unwrap();
         let frame = t.elapsed().as_secs_f64();
         let img =
             RgbImage::from_data(w, h, out.rgb.iter().map(|c| c.to_array()).collect()).unwrap();

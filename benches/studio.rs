@@ -26,12 +26,12 @@ fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
 }
 
 fn display(p: &Prepared, spp: u32, shader: &FilmShader) -> (RgbImage, f64) {
-    let mut settings = p.settings.clone();
+    let mut settings = p.shot.settings.clone();
     settings.spp = spp;
     let t = Instant::now();
-    let out = filmsplat::render::render(&p.scene, shader, &settings).unwrap();
+    let out = filmsplat::render::render(&p.scene, shader, &settings).unwrap(); // the scene as prepared: its own camera, no droplets
     let secs = t.elapsed().as_secs_f64();
-    let k = 2f32.powf(p.exposure);
+    let k = 2f32.powf(p.shot.exposure);
     let data = out
         .rgb
         .iter()
@@ -60,7 +60,7 @@ fn main() {
     desc.render.height = Some(h);
     let p = prepare(&desc, &root, false).unwrap();
     // Warm the thread pool.
-    let _ = render(&p);
+    let _ = render(&p, &p.shot);
     let jit = WavelengthStrategy::Jittered;
     let ior = p.shader.ior();
     let (reference, ref_secs) = display(

@@ -52,11 +52,11 @@ fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
 /// Renders `p` with `s` and returns (seconds, tone-mapped linear image).
 fn run(p: &mut Prepared, s: &Setting, ior: f32) -> (f64, RgbImage) {
     p.shader = FilmShader::new(ior, s.shading, s.wavelengths, WavelengthStrategy::Jittered);
-    p.settings.spp = s.spp;
-    p.settings.max_depth = s.max_depth;
-    p.settings.roulette = s.roulette;
+    p.shot.settings.spp = s.spp;
+    p.shot.settings.max_depth = s.max_depth;
+    p.shot.settings.roulette = s.roulette;
     let t = Instant::now();
-    let out = pipeline::render(p).expect("render");
+    let out = pipeline::render(p, &p.shot).expect("render");
     let secs = t.elapsed().as_secs_f64();
     let img = RgbImage::from_data(
         out.width,
@@ -64,8 +64,8 @@ fn run(p: &mut Prepared, s: &Setting, ior: f32) -> (f64, RgbImage) {
         out.rgb
             .iter()
             .map(|c| {
-                let e = 2f32.powf(p.exposure);
-                [c.x, c.y, c.z].map(|v| p.tonemap.apply(v * e))
+                let e = 2f32.powf(p.shot.exposure);
+                [c.x, c.y, c.z].map(|v| p.shot.tonemap.apply(v * e))
             })
             .collect(),
     )

@@ -48,8 +48,8 @@ fn main() {
                 desc.film.primitive = Some(primitive.into());
                 desc.camera.from = from;
                 let prepared = pipeline::prepare(&desc, Path::new(""), false).expect("prepare");
-                let out = pipeline::render(&prepared).expect("render");
-                let (w, h) = (prepared.settings.width, prepared.settings.height);
+                let out = pipeline::render(&prepared, &prepared.shot).expect("render");
+                let (w, h) = (prepared.shot.settings.width, prepared.shot.settings.height);
                 let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
                 let all = missing_front_layer_besides(&out.depth, w, h, &droplets);
                 let data = front_layer_in_data(&prepared, &out, &span);

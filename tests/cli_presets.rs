@@ -5,8 +5,8 @@
 
 mod cli_support;
 use cli_support::{filmsplat, tmp};
-use filmsplat::pipeline::prepare;
-use filmsplat::render::{RenderOutput, RenderSettings, render};
+use filmsplat::pipeline::{prepare, render};
+use filmsplat::render::{RenderOutput, RenderSettings};
 use filmsplat::scene::SceneDesc;
 use std::path::Path;
 
@@ -29,12 +29,10 @@ fn noise_and_rays(
 ) -> (f64, u64) {
     let p = prepared(film, render_lines);
     let run = |seed: u64| -> RenderOutput {
-        let mut s = RenderSettings {
-            seed,
-            ..p.settings.clone()
-        };
-        change(&mut s);
-        render(&p.scene, &p.shader, &s).unwrap()
+        let mut shot = p.shot.clone();
+        shot.settings.seed = seed;
+        change(&mut shot.settings);
+        render(&p, &shot).unwrap()
     };
     let (a, b) = (run(1), run(2));
     let var = a

@@ -12,7 +12,8 @@ use filmsplat::image::read_exr;
 use filmsplat::io::{CloudPart, PartKind, ReadOptions};
 use filmsplat::pipeline::read_input_parts;
 use filmsplat::render::{
-    Camera, Environment, FilmShader, RenderSettings, Scene, ShadingMode, Staging, render,
+    Camera, Environment, FilmShader, RenderOutput, RenderSettings, Scene, ShadingMode, Staging,
+    WorldRef, render,
 };
 use filmsplat::spectrum::WavelengthStrategy;
 use glam::Vec3;
@@ -194,10 +195,7 @@ fn droplet_scene(w: usize, h: usize, r_px: f32, at: &[(f32, f32)]) -> (Scene, Re
         |(x, y): (f32, f32)| Vec3::new((x - 0.5 * w as f32) * px, (0.5 * h as f32 - y) * px, 0.0);
     let centres: Vec<Vec3> = at.iter().map(|p| centre(*p)).collect();
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, fov);
-    let mut drops = Droplets::build(&centres, &vec![r_px * px; centres.len()]).unwrap();
-    drops
-        .set_footprints(|c| camera.pixel_footprint(c, h))
-        .unwrap();
+    let drops = Droplets::build(&centres, &vec![r_px * px; centres.len()]).unwrap();
     let scene = Scene {
         geometry: DiskGeometry::build(&[], &[], &[], &[]).unwrap().into(),
         camera,
@@ -219,6 +217,20 @@ fn droplet_scene(w: usize, h: usize, r_px: f32, at: &[(f32, f32)]) -> (Scene, Re
     (scene, settings)
 }
 
+/// Renders `scene` with its droplets grown to its camera's pixel footprints, as the pipeline
+/// renders every shot.
+fn render_grown(scene: &Scene, settings: &RenderSettings) -> RenderOutput {
+    let (camera, h) = (&scene.camera, settings.height);
+    let grown = (scene.staging.droplets)
+        .footprints(|c| camera.pixel_footprint(c, h))
+        .unwrap();
+    let world = WorldRef {
+        footprints: grown.as_ref(),
+        ..scene.into()
+    };
+    render(world, &shader(), settings).unwrap()
+}
+
 fn shader() -> FilmShader {
     FilmShader::new(1.33, ShadingMode::Lut, 8, WavelengthStrategy::Jittered)
 }
@@ -233,7 +245,7 @@ fn a_droplet_smaller_than_a_pixel_shows_its_share_of_it() {
         .flat_map(|i| (0..8).map(move |j| (4.0 + 6.0 * i as f32, 4.0 + 5.0 * j as f32)))
         .collect();
     let (scene, settings) = droplet_scene(w, h, r_px, &corners);
-    let out = render(&scene, &shader(), &settings).unwrap();
+    let out = render_grown(&scene, &settings);
     for &(x, y) in &corners {
         let (x, y) = (x as usize, y as usize);
         let around = [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)];
@@ -254,7 +266,7 @@ fn a_droplet_smaller_than_a_pixel_shows_its_share_of_it() {
         }
     }
     let (scene, settings) = droplet_scene(w, h, r_px, &at);
-    let out = render(&scene, &shader(), &settings).unwrap();
+    let out = render_grown(&scene, &settings);
     let mean: f32 = out.alpha.iter().sum::<f32>() / (w * h) as f32;
     let want = at.len() as f32 * std::f32::consts::PI * r_px * r_px / (w * h) as f32;
     assert!(

@@ -71,7 +71,7 @@ fn measure(particles: usize, width: usize, height: usize) -> (u64, memory::Memor
                     [render]\nwidth = 16\nheight = 12\nspp = 1\n";
         let desc = SceneDesc::from_toml(toml, "inline").unwrap();
         let prepared = prepare(&desc, Path::new("."), false).unwrap();
-        render(&prepared).unwrap();
+        render(&prepared, &prepared.shot).unwrap();
     });
     let toml = format!(
         "[input]\nsample = \"bubble\"\nparticles = {particles}\n\
@@ -87,8 +87,8 @@ fn measure(particles: usize, width: usize, height: usize) -> (u64, memory::Memor
     PEAK.store(before, Ordering::Relaxed);
     {
         let prepared = prepare(&desc, Path::new("."), false).unwrap();
-        let out = render(&prepared).unwrap();
-        write_image(&prepared, &out, &png).unwrap();
+        let out = render(&prepared, &prepared.shot).unwrap();
+        write_image(&prepared.shot, &out, &png).unwrap();
     }
     let peak = PEAK.load(Ordering::Relaxed).saturating_sub(before) as u64;
     let _ = std::fs::remove_file(&png);

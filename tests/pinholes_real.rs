@@ -31,7 +31,7 @@ fn pinholes(input: &str, primitive: &str) -> Vec<(f64, usize)> {
         .map(|from| {
             desc.camera.from = from;
             let prepared = pipeline::prepare(&desc, Path::new(""), false).unwrap();
-            let out = pipeline::render(&prepared).unwrap();
+            let out = pipeline::render(&prepared, &prepared.shot).unwrap();
             let f = front_layer_in_data(&prepared, &out, &span);
             (f.percent(), f.interior)
         })

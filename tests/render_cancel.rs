@@ -20,11 +20,11 @@ fn prepared() -> pipeline::Prepared {
 #[test]
 fn the_tile_counter_reaches_every_tile_and_the_image_is_unchanged() {
     let mut p = prepared();
-    let plain = pipeline::render(&p).unwrap();
+    let plain = pipeline::render(&p, &p.shot).unwrap();
     let done = Arc::new(AtomicUsize::new(0));
-    p.settings.tiles_done = Some(done.clone());
-    p.settings.cancel = Some(Arc::new(AtomicBool::new(false)));
-    let counted = pipeline::render(&p).unwrap();
+    p.shot.settings.tiles_done = Some(done.clone());
+    p.shot.settings.cancel = Some(Arc::new(AtomicBool::new(false)));
+    let counted = pipeline::render(&p, &p.shot).unwrap();
     // 40 x 20 pixels in 16 x 16 tiles: 3 x 2.
     assert_eq!(done.load(Ordering::Relaxed), 6);
     assert_eq!(plain.rgb, counted.rgb);
@@ -34,9 +34,9 @@ fn the_tile_counter_reaches_every_tile_and_the_image_is_unchanged() {
 fn a_raised_cancel_flag_stops_before_any_tile_and_says_cancelled() {
     let mut p = prepared();
     let done = Arc::new(AtomicUsize::new(0));
-    p.settings.tiles_done = Some(done.clone());
-    p.settings.cancel = Some(Arc::new(AtomicBool::new(true)));
-    let e = pipeline::render(&p).unwrap_err();
+    p.shot.settings.tiles_done = Some(done.clone());
+    p.shot.settings.cancel = Some(Arc::new(AtomicBool::new(true)));
+    let e = pipeline::render(&p, &p.shot).unwrap_err();
     assert!(matches!(e, Error::Cancelled), "{e}");
     assert_eq!(e.to_string(), "cancelled");
     assert_eq!(done.load(Ordering::Relaxed), 0);
@@ -58,8 +58,8 @@ fn prepare_with_an_in_memory_cloud_equals_the_same_cloud_from_the_scene() {
         pipeline::prepare_with(&no_input, Path::new("."), false, Some(cloud)).unwrap();
     assert_eq!(from_scene.framing, from_memory.framing);
     let (a, b) = (
-        pipeline::render(&from_scene).unwrap(),
-        pipeline::render(&from_memory).unwrap(),
+        pipeline::render(&from_scene, &from_scene.shot).unwrap(),
+        pipeline::render(&from_memory, &from_memory.shot).unwrap(),
     );
     assert_eq!(a.rgb, b.rgb);
 }
@@ -70,13 +70,13 @@ fn a_cancel_raised_inside_a_tile_stops_it() {
     // (16.8 M camera samples), so a render that looked at the flag only between tiles would
     // run past the cap below.
     let mut p = prepared();
-    (p.settings.width, p.settings.height) = (16, 16);
-    p.settings.spp = filmsplat::render::MAX_SPP;
+    (p.shot.settings.width, p.shot.settings.height) = (16, 16);
+    p.shot.settings.spp = filmsplat::render::MAX_SPP;
     let cancel = Arc::new(AtomicBool::new(false));
-    p.settings.cancel = Some(cancel.clone());
+    p.shot.settings.cancel = Some(cancel.clone());
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        let _ = tx.send(pipeline::render(&p).map(|_| ()));
+        let _ = tx.send(pipeline::render(&p, &p.shot).map(|_| ()));
     });
     std::thread::sleep(std::time::Duration::from_millis(300));
     cancel.store(true, Ordering::Relaxed);
@@ -102,7 +102,7 @@ fn spp_has_one_range_for_every_way_in() {
     assert!(scene("65536").resolve(Path::new(".")).is_ok());
     // The render itself refuses what bypasses the configuration.
     let mut p = prepared();
-    p.settings.spp = u32::MAX;
-    let e = pipeline::render(&p).unwrap_err().to_string();
+    p.shot.settings.spp = u32::MAX;
+    let e = pipeline::render(&p, &p.shot).unwrap_err().to_string();
     assert!(e.contains("65536"), "{e}");
 }

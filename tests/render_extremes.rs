@@ -58,9 +58,9 @@ fn render_finite(name: &str, cloud: &PointCloud, edit: impl FnOnce(&mut SceneDes
     edit(&mut d);
     let prepared =
         pipeline::prepare(&d, Path::new(""), false).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let out = pipeline::render(&prepared).unwrap();
+    let out = pipeline::render(&prepared, &prepared.shot).unwrap();
     let exr = scratch(&format!("{name}.exr"));
-    pipeline::write_image(&prepared, &out, &exr).unwrap();
+    pipeline::write_image(&prepared.shot, &out, &exr).unwrap();
     let l = read_exr(&exr).unwrap();
     assert_eq!((l.width, l.height), (32, 24), "{name}");
     let mut values: Vec<(&str, f32)> = Vec::new();

@@ -20,7 +20,7 @@ fn measure(input: &Path) -> (f64, usize, f32) {
     (d.render.width, d.render.height) = (Some(128), Some(72));
     d.render.spp = Some(1);
     let p = prepare(&d, Path::new(""), false).unwrap();
-    let out = render(&p).unwrap();
+    let out = render(&p, &p.shot).unwrap();
     let v = colour_visibility_of(&p, &out);
     let (mut sum, mut n) = (0.0f32, 0usize);
     for (c, a) in out.rgb.iter().zip(&out.alpha) {

@@ -34,7 +34,7 @@ fn drops_render_as_water_covering_the_blocks() {
     let p = pipeline::prepare(&d, root, false).unwrap();
     assert_eq!(p.scene.staging.liquid.len(), 1956);
     assert_eq!(p.droplets, 0);
-    let out = pipeline::render(&p).unwrap();
+    let out = pipeline::render(&p, &p.shot).unwrap();
     // The liquid particles, as the pipeline classifies them.
     let parts = load_parts(&d, root).unwrap();
     let pts: Vec<Vec3> = parts

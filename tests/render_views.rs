@@ -41,7 +41,7 @@ fn hits(p: &pipeline::Prepared, scene_w: usize) -> Vec<Option<SurfaceHit>> {
 /// pixel with the smallest `value`, and the top end that of the largest.
 fn bar_ends_match(view: &str, value: fn(&SurfaceHit) -> f32) {
     let p = prepared(view);
-    let v = pipeline::render_view(&p).unwrap().unwrap();
+    let v = pipeline::render_view(&p, &p.shot).unwrap().unwrap();
     assert_eq!((v.width, v.height), (W, H), "{view}: exactly --size");
     assert_eq!(v.rgb.len(), W * H);
     let panel = colour_bar_width(W, H);
@@ -104,11 +104,11 @@ fn the_thickness_bar_ends_match_the_thinnest_and_thickest_pixels() {
 fn every_view_is_exactly_the_requested_size() {
     for view in ["thickness", "normal", "depth", "particle-id", "coverage"] {
         let p = prepared(view);
-        let v = pipeline::render_view(&p).unwrap().unwrap();
+        let v = pipeline::render_view(&p, &p.shot).unwrap().unwrap();
         assert_eq!((v.width, v.height, v.rgb.len()), (W, H, W * H), "{view}");
-        assert_eq!(v.legend.is_some(), p.view.has_legend(), "{view}");
+        assert_eq!(v.legend.is_some(), p.shot.view.has_legend(), "{view}");
         // A view with a bar frames the scene for the columns the bar leaves.
-        let scene_w = if p.view.has_legend() {
+        let scene_w = if p.shot.view.has_legend() {
             W - colour_bar_width(W, H)
         } else {
             W

@@ -97,7 +97,7 @@ fn every_sample_scene_renders_at_32x24() {
         desc.render.height = Some(24);
         desc.render.spp = Some(1);
         let prepared = prepare(&desc, &dir, false).unwrap();
-        let out = render(&prepared).unwrap();
+        let out = render(&prepared, &prepared.shot).unwrap();
         assert!(out.rgb.iter().all(|c| c.is_finite()), "{}", path.display());
         // The camera sees the film: a good part of the frame, not all of it.
         let hit = out.alpha.iter().filter(|&&a| a > 0.5).count() as f64 / out.alpha.len() as f64;

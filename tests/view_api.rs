@@ -15,9 +15,11 @@ fn rendered_by_the_pipeline(toml: &str, view: Option<&str>) -> (u32, u32, Vec<u8
     desc.input.time = Some(0.0);
     let p = pipeline::prepare(&desc, Path::new("."), false).unwrap();
     let path = temp("oracle.png");
-    match pipeline::render_view(&p).unwrap() {
+    match pipeline::render_view(&p, &p.shot).unwrap() {
         Some(v) => pipeline::write_view(&v, &path).unwrap(),
-        None => pipeline::write_image(&p, &pipeline::render(&p).unwrap(), &path).unwrap(),
+        None => {
+            pipeline::write_image(&p.shot, &pipeline::render(&p, &p.shot).unwrap(), &path).unwrap()
+        }
     }
     let decoded = decode(&std::fs::read(&path).unwrap());
     std::fs::remove_file(&path).unwrap();

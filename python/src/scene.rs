@@ -6,15 +6,14 @@ use crate::errors::{invalid, to_py};
 use crate::image::Image;
 use filmsplat::pipeline::config::{check_image_size, check_spp};
 use filmsplat::pipeline::memory::{MemoryEstimate, estimate_scene};
-use filmsplat::pipeline::{Prepared, camera, camera_path, framing, prepare_with};
+use filmsplat::pipeline::{Prepared, Shot, camera, camera_path, framing, prepare_with, render};
 use filmsplat::pointcloud::PointCloud;
-use filmsplat::render::{View, render, render_view};
+use filmsplat::render::{View, WorldRef, render_view_of};
 use filmsplat::scene::{CameraDesc, SceneDesc};
-use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, TryLockError, mpsc};
+use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
 /// How often a running render looks at Python: Ctrl-C and the progress callback.
@@ -103,10 +102,11 @@ fn check_memory(
     filmsplat::budget::check(estimate.total(), || format!("Scene: {estimate}")).map_err(invalid)
 }
 
-/// A built scene: the geometry, the shader and the settings of one scene description.
+/// A built scene: the geometry, the shader and the settings of one scene description. Read only
+/// once built (each render takes its own shot), so threads may render it at once.
 #[pyclass(frozen, name = "_Scene", module = "filmsplat._native")]
 pub struct NativeScene {
-    prepared: Mutex<Prepared>,
+    prepared: Prepared,
     desc: SceneDesc,
     #[pyo3(get)]
     particles: usize,
@@ -115,8 +115,7 @@ pub struct NativeScene {
     /// Seconds spent loading, estimating and building.
     #[pyo3(get)]
     build_seconds: (f64, f64, f64),
-    /// Image size of the scene description, (width, height) pixels. Kept outside the mutex:
-    /// waiting for it with the GIL held would deadlock against a render's polling.
+    /// Image size of the scene description, (width, height) pixels.
     #[pyo3(get)]
     size: (usize, usize),
 }
@@ -157,8 +156,8 @@ impl NativeScene {
                 p.estimate_time.as_secs_f64(),
                 p.build_time.as_secs_f64(),
             ),
-            size: (p.settings.width, p.settings.height),
-            prepared: Mutex::new(p),
+            size: (p.shot.settings.width, p.shot.settings.height),
+            prepared: p,
             desc,
         })
     }
@@ -194,18 +193,8 @@ impl NativeScene {
         let view: Option<View> = view
             .map(|v| v.parse().map_err(|e| invalid(format!("view: {e}"))))
             .transpose()?;
-        // Never wait for the lock with the GIL held (the render holding it needs the GIL to
-        // poll). A panicked render leaves the scene intact (only the camera is written).
-        let mut p = match self.prepared.try_lock() {
-            Ok(p) => p,
-            Err(TryLockError::Poisoned(p)) => p.into_inner(),
-            Err(TryLockError::WouldBlock) => {
-                return Err(PyRuntimeError::new_err(
-                    "Scene.render: this scene is rendering in another thread",
-                ));
-            }
-        };
-        let mut settings = p.settings.clone();
+        let p = &self.prepared;
+        let mut settings = p.shot.settings.clone();
         // The same checks as a scene file's keys: the size against the memory allowance before
         // any buffer is allocated, spp within 1..=65536.
         if let Some((w, h)) = size {
@@ -225,32 +214,39 @@ impl NativeScene {
         };
         let aspect = settings.width as f32 / settings.height as f32;
         if turn != 0.0 {
-            desc.camera = turned(&desc, &p, aspect, turn)?;
+            desc.camera = turned(&desc, p, aspect, turn)?;
         }
-        p.scene.camera = camera(&desc, &p.framing, aspect).map_err(to_py)?;
-        // The light turns with the camera (back to the scene's without an orbit).
-        p.turn_light(turn as f32);
-        let view = view.unwrap_or(p.view);
-        if view != View::Shaded {
-            let (w, h) = (settings.width, settings.height);
+        let mut shot = Shot {
+            camera: camera(&desc, &p.framing, aspect).map_err(to_py)?,
+            // The light turns with the camera (the environment as prepared without an orbit).
+            turn_deg: turn as f32,
+            view: view.unwrap_or(p.shot.view),
+            settings,
+            ..p.shot.clone()
+        };
+        if shot.view != View::Shaded {
+            let (w, h, view) = (shot.settings.width, shot.settings.height, shot.view);
+            let world = WorldRef {
+                camera: &shot.camera,
+                ..(&p.scene).into()
+            };
             let v = py
-                .detach(|| render_view(&p.scene, view, w, h))
+                .detach(|| render_view_of(world, view, w, h, None))
                 .map_err(to_py)?;
             return Ok(Image::view(v, &view.to_string()));
         }
         let cancel = Arc::new(AtomicBool::new(false));
         let done = Arc::new(AtomicUsize::new(0));
-        settings.cancel = Some(cancel.clone());
-        settings.tiles_done = Some(done.clone());
-        settings.progress = false;
-        let total = settings.width.div_ceil(16) * settings.height.div_ceil(16);
-        let prepared: &Prepared = &p;
+        shot.settings.cancel = Some(cancel.clone());
+        shot.settings.tiles_done = Some(done.clone());
+        shot.settings.progress = false;
+        let total = shot.settings.width.div_ceil(16) * shot.settings.height.div_ceil(16);
         let out = py.detach(|| {
             std::thread::scope(|s| {
                 let (tx, rx) = mpsc::channel();
-                let settings = &settings;
+                let shot = &shot;
                 s.spawn(move || {
-                    let r = render(&prepared.scene, &prepared.shader, settings);
+                    let r = render(p, shot);
                     let _ = tx.send(r);
                 });
                 loop {
@@ -279,6 +275,6 @@ impl NativeScene {
         if let Some(cb) = &progress {
             cb.call1(py, (total, total))?;
         }
-        Ok(Image::shaded(out, p.grade, p.exposure, p.tonemap))
+        Ok(Image::shaded(out, shot.grade, shot.exposure, shot.tonemap))
     }
 }

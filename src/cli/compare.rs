@@ -274,7 +274,7 @@ fn compare_one(
     let mut sides = Vec::with_capacity(2);
     for v in &variants {
         let t = Instant::now();
-        let rendered = crate::pipeline::render(&v.prepared)?;
+        let rendered = crate::pipeline::render(&v.prepared, &v.prepared.shot)?;
         let render = t.elapsed();
         images.push(display_image(&v.prepared, &rendered)?);
         sides.push(side(v, render));

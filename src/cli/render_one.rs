@@ -6,7 +6,7 @@ use super::render_args::RenderArgs;
 use super::render_scene::scene_from_args;
 use crate::image::Srgb8Image;
 use crate::pipeline;
-use crate::pipeline::{Prepared, Progress, memory};
+use crate::pipeline::{Prepared, Progress, Shot, memory};
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use std::io::{IsTerminal, Write};
@@ -148,23 +148,28 @@ pub(super) fn render_one(
         );
     }
     let prepared = ready_or_prepare(a, &desc, ready)?;
-    render_prepared(a, &prepared, Target::File(&output), Fresh::Prepared, out).map(|_| ())
+    let shot = prepared.shot.clone();
+    render_prepared(
+        a,
+        &prepared,
+        shot,
+        Target::File(&output),
+        Fresh::Prepared,
+        out,
+    )
+    .map(|_| ())
 }
 
-/// `ready` with this render's progress setting, or the frame prepared now.
+/// `ready`, or the frame prepared now.
 pub(super) fn ready_or_prepare(
     a: &RenderArgs,
     desc: &SceneDesc,
     ready: Option<Prepared>,
 ) -> Result<Prepared> {
-    let progress = progress_of(a);
-    Ok(match ready {
-        Some(mut p) => {
-            p.settings.progress = progress == Progress::Bar;
-            p
-        }
-        None => prepare_frame(a, progress).map_err(|e| desc.locate(e))?,
-    })
+    match ready {
+        Some(p) => Ok(p),
+        None => prepare_frame(a, progress_of(a)).map_err(|e| desc.locate(e)),
+    }
 }
 
 /// Whether the scene a render draws was prepared for it, or prepared once before and
@@ -177,11 +182,12 @@ pub(super) enum Fresh {
     Reaimed,
 }
 
-/// Renders `prepared` to `target` (its file and --exr: returns `None`; or its pixels: `Some`)
-/// and reports it.
+/// Renders `shot` of `prepared` (with this render's progress setting) to `target` (its file and
+/// --exr: returns `None`; or its pixels: `Some`) and reports it.
 pub(super) fn render_prepared(
     a: &RenderArgs,
     prepared: &Prepared,
+    mut shot: Shot,
     target: Target<'_>,
     fresh: Fresh,
     out: &mut dyn Write,
@@ -190,7 +196,8 @@ pub(super) fn render_prepared(
     for note in prepared.notes.iter().filter(shown) {
         let _ = writeln!(out, "{}", note.message());
     }
-    if let Some(view) = pipeline::render_view(prepared)? {
+    shot.settings.progress = progress_of(a) == Progress::Bar;
+    if let Some(view) = pipeline::render_view(prepared, &shot)? {
         let pixels = match target {
             Target::File(output) => {
                 pipeline::write_view(&view, output)?;
@@ -202,26 +209,33 @@ pub(super) fn render_prepared(
             Target::Pixels => Some(pipeline::view_srgb8(&view)?),
         };
         if !a.quiet {
-            let (n, v, to) = (prepared.particles, prepared.view, target.label());
+            let (n, v, to) = (prepared.particles, shot.view, target.label());
             let _ = writeln!(out, "{n} particles: {v} view; wrote {to}");
         }
         return Ok(pixels);
     }
     let t = Instant::now();
-    let result = pipeline::render(prepared)?;
+    let result = pipeline::render(prepared, &shot)?;
     let render_time = t.elapsed();
     let pixels = match target {
         Target::File(output) => {
-            pipeline::write_image(prepared, &result, output)?;
+            pipeline::write_image(&shot, &result, output)?;
             if let Some(exr) = &a.exr {
-                pipeline::write_image(prepared, &result, exr)?;
+                pipeline::write_image(&shot, &result, exr)?;
             }
             None
         }
-        Target::Pixels => Some(pipeline::image_srgb8(prepared, &result)?),
+        Target::Pixels => Some(pipeline::image_srgb8(&shot, &result)?),
     };
     if !a.quiet {
-        let line = summary(prepared, &result, render_time, fresh, &target.label());
+        let line = summary(
+            prepared,
+            &shot,
+            &result,
+            render_time,
+            fresh,
+            &target.label(),
+        );
         let _ = writeln!(out, "{line}");
     }
     Ok(pixels)
@@ -230,12 +244,13 @@ pub(super) fn render_prepared(
 /// The summary line of a shaded render: counts, stage times, speed, the missing front layer.
 fn summary(
     prepared: &Prepared,
+    shot: &Shot,
     result: &crate::render::RenderOutput,
     render_time: std::time::Duration,
     fresh: Fresh,
     wrote: &str,
 ) -> String {
-    let s = &prepared.settings;
+    let s = &shot.settings;
     let droplets: Vec<bool> = result.droplets.iter().map(|c| *c > 0.0).collect();
     let front = crate::image::pinholes::missing_front_layer_besides(
         &result.depth,

@@ -153,13 +153,16 @@ impl Frames {
         one.in_memory = self.movie.is_some();
         let (desc, base) = scene_from_args(&one)?;
         let mut kept = self.kept.borrow_mut();
-        let (mut prepared, fresh) = match kept.take() {
+        let (prepared, fresh) = match kept.take() {
             Some(p) => (p, Fresh::Reaimed),
             None => (ready_or_prepare(&one, &desc, ready)?, Fresh::Prepared),
         };
-        if self.still {
-            prepared.aim(&desc).map_err(|e| desc.locate(e))?;
-        }
+        // A turntable's frame: the prepared cloud seen from this frame's camera and light.
+        let shot = if self.still {
+            prepared.aimed(&desc).map_err(|e| desc.locate(e))?
+        } else {
+            prepared.shot.clone()
+        };
         let output = output_path(&one, &desc, &base);
         let target = match &self.movie {
             Some(_) => Target::Pixels,
@@ -168,7 +171,7 @@ impl Frames {
                 Target::File(&output)
             }
         };
-        let done = render_prepared(&one, &prepared, target, fresh, out);
+        let done = render_prepared(&one, &prepared, shot, target, fresh, out);
         if self.still {
             *kept = Some(prepared);
         }

@@ -18,9 +18,6 @@ pub struct Droplets {
     spheres: Option<SphereGeometry>,
     centres: Vec<Vec3>,
     radii: Vec<f32>,
-    /// The spheres grown to the camera's pixel footprint, and their radii (see
-    /// [`Droplets::set_footprints`]); `None` until set.
-    grown: Option<(SphereGeometry, Vec<f32>)>,
     /// Index of refraction inside the spheres (default [`WATER_IOR`]).
     pub ior: f32,
 }
@@ -31,9 +28,25 @@ impl Default for Droplets {
             spheres: None,
             centres: Vec::new(),
             radii: Vec::new(),
-            grown: None,
             ior: WATER_IOR,
         }
+    }
+}
+
+/// The droplets grown to one camera's pixel footprints (see [`Droplets::footprints`]): a
+/// camera's own, so one set of droplets serves many cameras at once.
+#[derive(Clone, Debug)]
+pub struct GrownDroplets {
+    /// The spheres grown to the footprints.
+    spheres: SphereGeometry,
+    /// Their grown radii, scene units (each at least the droplet's own).
+    radii: Vec<f32>,
+}
+
+impl GrownDroplets {
+    /// Heap bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        self.spheres.memory_bytes() + self.radii.len() * 4
     }
 }
 
@@ -76,21 +89,21 @@ impl Droplets {
             spheres: Some(spheres),
             centres: centres.to_vec(),
             radii: radii.to_vec(),
-            grown: None,
             ior: WATER_IOR,
         })
     }
 
-    /// Grows each droplet seen by camera rays to at least `footprint(centre)` (scene units;
+    /// Each droplet seen by camera rays grown to at least `footprint(centre)` (scene units;
     /// the radius of a disk covering one pixel at the droplet's distance), so a droplet smaller
     /// than a pixel is still found by the pixel's samples and counts with its share of the
-    /// pixel ([`Droplets::intersect_grown`]). Cost: one more sphere tree, O(n log n).
+    /// pixel ([`Droplets::intersect_grown`]); `None` without droplets. Cost: one more sphere
+    /// tree, O(n log n).
     ///
     /// # Errors
     /// As [`SphereGeometry::build`].
-    pub fn set_footprints(&mut self, footprint: impl Fn(Vec3) -> f32) -> Result<()> {
+    pub fn footprints(&self, footprint: impl Fn(Vec3) -> f32) -> Result<Option<GrownDroplets>> {
         if self.is_empty() {
-            return Ok(());
+            return Ok(None);
         }
         let g: Vec<f32> = self
             .centres
@@ -102,16 +115,24 @@ impl Droplets {
             })
             .collect();
         let zeros = vec![0.0; g.len()];
-        self.grown = Some((SphereGeometry::build(&self.centres, &[], &g, &zeros)?, g));
-        Ok(())
+        Ok(Some(GrownDroplets {
+            spheres: SphereGeometry::build(&self.centres, &[], &g, &zeros)?,
+            radii: g,
+        }))
     }
 
-    /// The nearest grown droplet (see [`Droplets::set_footprints`]) a camera ray enters with
-    /// `t_min < t < t_max`; without footprints, the droplets themselves at coverage 1. The
-    /// expected coverage over a pixel's samples is the droplet's own cross-section over the
-    /// pixel's: P(hit grown) · (r/g)² = π g² / A · r² / g² = π r² / A.
-    pub fn intersect_grown(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<GrownHit> {
-        let Some((spheres, g)) = &self.grown else {
+    /// The nearest of the droplets `grown` (see [`Droplets::footprints`]; this set's own) a
+    /// camera ray enters with `t_min < t < t_max`; without footprints, the droplets themselves
+    /// at coverage 1. The expected coverage over a pixel's samples is the droplet's own
+    /// cross-section over the pixel's: P(hit grown) · (r/g)² = π g² / A · r² / g² = π r² / A.
+    pub fn intersect_grown(
+        &self,
+        grown: Option<&GrownDroplets>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<GrownHit> {
+        let Some(GrownDroplets { spheres, radii: g }) = grown else {
             let hit = self.intersect(ray, t_min, t_max)?;
             let t_exit = hit.t + self.exit_distance(hit.index, ray.at(hit.t), ray.dir);
             return Some(GrownHit {
@@ -159,10 +180,6 @@ impl Droplets {
         self.spheres
             .as_ref()
             .map_or(0, SphereGeometry::memory_bytes)
-            + self
-                .grown
-                .as_ref()
-                .map_or(0, |(s, g)| s.memory_bytes() + g.len() * 4)
             + self.centres.len() * 16
     }
 
@@ -224,19 +241,24 @@ mod tests {
     fn grown_droplets_cover_their_share() {
         // A droplet of radius 0.1 grown to 0.4: any ray through the grown sphere counts with
         // (0.1/0.4)² = 1/16; one larger than its footprint keeps coverage 1.
-        let mut d = Droplets::build(&[Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0)], &[0.1, 1.0]).unwrap();
-        d.set_footprints(|_| 0.4).unwrap();
+        let d = Droplets::build(&[Vec3::ZERO, Vec3::new(5.0, 0.0, 0.0)], &[0.1, 1.0]).unwrap();
+        let grown = d.footprints(|_| 0.4).unwrap();
+        let grown = grown.as_ref();
         let ray = |x: f32| Ray {
             origin: Vec3::new(x, 0.3, -10.0),
             dir: Vec3::Z,
         };
-        let h = d.intersect_grown(&ray(0.0), 0.0, f32::INFINITY).unwrap();
+        let h = d
+            .intersect_grown(grown, &ray(0.0), 0.0, f32::INFINITY)
+            .unwrap();
         assert_eq!(h.hit.index, 0);
         assert!((h.coverage - 1.0 / 16.0).abs() < 1e-6, "{}", h.coverage);
         let chord = 2.0 * (0.4f32 * 0.4 - 0.3 * 0.3).sqrt();
         assert!((h.t_exit - h.hit.t - chord).abs() < 1e-4);
         assert!(d.intersect(&ray(0.0), 0.0, f32::INFINITY).is_none());
-        let big = d.intersect_grown(&ray(5.0), 0.0, f32::INFINITY).unwrap();
+        let big = d
+            .intersect_grown(grown, &ray(5.0), 0.0, f32::INFINITY)
+            .unwrap();
         assert_eq!((big.hit.index, big.coverage), (1, 1.0));
     }
 }

@@ -51,7 +51,7 @@ pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{BvhNode, BvhParams};
 pub use disks::DiskGeometry;
-pub use droplets::{DropletHit, Droplets, GrownHit, WATER_IOR};
+pub use droplets::{DropletHit, Droplets, GrownDroplets, GrownHit, WATER_IOR};
 pub use film::FilmGeometry;
 pub use hit::SurfaceHit;
 pub use liquid::{KERNEL_SPACINGS, LiquidHit, LiquidPoint, LiquidSurface, VOLUME_RADIUS};

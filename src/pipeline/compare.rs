@@ -186,7 +186,7 @@ pub fn prepare_pair(
 ) -> Result<[Variant; 2]> {
     let a = prepare_variant(desc, base, choices[0], mesh, progress)?;
     let mut b = prepare_variant(desc, base, choices[1], mesh, progress)?;
-    b.prepared.scene.camera = a.prepared.scene.camera;
+    b.prepared.shot.camera = a.prepared.shot.camera;
     Ok([a, b])
 }
 
@@ -310,14 +310,14 @@ fn reconstruct(desc: &SceneDesc, base: &Path) -> Result<(TriangleMesh, Duration,
     Ok((m, t.elapsed(), note))
 }
 
-/// The picture as displayed: exposure and tone curve applied, linear RGB in `[0, 1]` (what the
+/// The picture as displayed (a render of `p`'s default shot): exposure and tone curve applied, linear RGB in `[0, 1]` (what the
 /// metrics compare).
 pub fn display_image(p: &Prepared, out: &RenderOutput) -> Result<RgbImage> {
-    let gain = p.exposure.exp2();
+    let gain = p.shot.exposure.exp2();
     let data = out
         .rgb
         .iter()
-        .map(|c| c.to_array().map(|v| p.tonemap.apply(v * gain)))
+        .map(|c| c.to_array().map(|v| p.shot.tonemap.apply(v * gain)))
         .collect();
     RgbImage::from_data(out.width, out.height, data)
 }

@@ -1,13 +1,30 @@
 //! The whole pipeline behind `filmsplat render`, callable from Rust: scene description →
 //! particles → geometry → rendered buffers → image files.
 //!
-//! ```no_run
+//! [`prepare`] reads and builds once; the [`Prepared`] scene is read only from then on.
+//! [`render`] takes it with a [`Shot`] (camera, light turn, view, settings, exposure): the
+//! scene file's is [`Prepared::shot`]; change a copy for another picture of the same
+//! particles. Renders of one `Prepared` (shared in an `Arc`) may run at once from many threads.
+//!
+//! ```
 //! use filmsplat::pipeline;
 //! use filmsplat::scene::SceneDesc;
-//! let desc = SceneDesc::from_toml("[input]\nsample = \"bubble\"\n", "inline").unwrap();
+//! let toml = "[input]\nsample = \"bubble\"\nparticles = 2000\n[render]\nwidth = 64\nheight = 48\nspp = 1\n";
+//! let desc = SceneDesc::from_toml(toml, "inline").unwrap();
 //! let prepared = pipeline::prepare(&desc, std::path::Path::new("."), false).unwrap();
-//! let out = pipeline::render(&prepared).unwrap();
-//! pipeline::write_image(&prepared, &out, std::path::Path::new("bubble.png")).unwrap();
+//! let out = pipeline::render(&prepared, &prepared.shot).unwrap();
+//! assert_eq!((out.width, out.height), (64, 48));
+//! // Another picture of the same prepared particles: the camera moved to the side.
+//! let mut side = desc.clone();
+//! side.camera.position = Some([2.5, 0.4, 0.5]);
+//! let shot = prepared.aimed(&side).unwrap();
+//! let from_side = pipeline::render(&prepared, &shot).unwrap();
+//! assert_ne!(out.rgb, from_side.rgb);
+//! let dir = std::env::temp_dir().join(format!("filmsplat-doc-{}", std::process::id()));
+//! std::fs::create_dir_all(&dir).unwrap();
+//! pipeline::write_image(&prepared.shot, &out, &dir.join("bubble.png")).unwrap();
+//! assert!(dir.join("bubble.png").is_file());
+//! std::fs::remove_dir_all(&dir).unwrap();
 //! ```
 
 pub mod beside;
@@ -30,6 +47,7 @@ mod prepared;
 pub mod reconstruct;
 mod sample_check;
 pub mod sequence;
+mod shot;
 pub mod stages;
 mod studio;
 mod visibility;
@@ -46,13 +64,14 @@ pub use output::{
     write_view,
 };
 pub use prepared::{Note, Prepared};
+pub use shot::Shot;
 pub use stages::Progress;
 pub use visibility::colour_visibility_of;
 
 use crate::Result;
 use crate::io::CloudPart;
 use crate::pointcloud::PointCloud;
-use crate::render::{FilmShader, RenderOutput, RenderSettings, Scene, Studio};
+use crate::render::{Camera, FilmShader, RenderOutput, RenderSettings, Scene, Studio, WorldRef};
 use crate::scene::SceneDesc;
 use build::Tolerances;
 use std::path::Path;
@@ -89,7 +108,7 @@ pub fn prepare_staged(
 
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
-    let (mut films, drops, mut droplets) = (loaded.films, loaded.drops, loaded.droplets);
+    let (mut films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
     let liquid = loaded.liquid;
     let radii = films.radii(&config.film);
     let attribute = config
@@ -116,12 +135,15 @@ pub fn prepare_staged(
     let environment = build::environment(&config.environment, Studio::default().view)?;
     let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
-    // Droplets smaller than a pixel show their share of it (see render's camera ray).
-    droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
     staging.droplets = droplets;
     staging.liquid = liquid;
     let shader = film_shader(&config);
-    let mut prepared = Prepared {
+    // A turntable's frame: the light turns with the camera (turned once here, from the
+    // environment as prepared, for every render of the default shot).
+    let turn_deg = desc.environment.turn_deg;
+    let turned = (turn_deg != 0.0).then(|| (turn_deg, prepared::turned(&environment, turn_deg)));
+    let shot = default_shot(&config, camera, turn_deg, progress);
+    Ok(Prepared {
         scene: Scene {
             geometry,
             camera,
@@ -132,17 +154,9 @@ pub fn prepare_staged(
         },
         framing,
         aspect,
-        turn_deg: 0.0,
-        unturned: None,
+        turned,
         shader,
-        settings: RenderSettings {
-            progress: progress == Progress::Bar,
-            ..config.settings
-        },
-        exposure: config.output.exposure_ev,
-        tonemap: config.output.tonemap,
-        grade: config.output.grade,
-        view: config.view,
+        shot,
         output: config.output.path,
         attribute,
         particles: films.cloud.len(),
@@ -151,10 +165,23 @@ pub fn prepare_staged(
         estimate_time: loaded.estimate_time,
         build_time,
         notes,
-    };
-    // A turntable's frame: the light turns with the camera.
-    prepared.turn_light(desc.environment.turn_deg);
-    Ok(prepared)
+    })
+}
+
+/// The picture `config` describes, from `camera`, its light turned `turn_deg` degrees.
+fn default_shot(config: &RenderConfig, camera: Camera, turn_deg: f32, progress: Progress) -> Shot {
+    Shot {
+        camera,
+        turn_deg,
+        view: config.view,
+        settings: RenderSettings {
+            progress: progress == Progress::Bar,
+            ..config.settings.clone()
+        },
+        exposure: config.output.exposure_ev,
+        tonemap: config.output.tonemap,
+        grade: config.output.grade,
+    }
 }
 
 /// The film shader `config` asks for.
@@ -253,7 +280,25 @@ fn load(
     })
 }
 
-/// Renders a prepared scene.
-pub fn render(p: &Prepared) -> Result<RenderOutput> {
-    crate::render::render(&p.scene, &p.shader, &p.settings)
+/// Renders `shot` of a prepared scene (its shaded view; see [`render_view`] for the others).
+/// Reads `p` only: renders of one `Prepared` with different shots may run at once from many
+/// threads. The droplets are grown to the shot camera's pixel footprints (one sphere tree,
+/// O(n log n) in the droplets) and the environment turned as the shot turns it.
+///
+/// # Errors
+/// As [`crate::render::render`]: a bad size or sample count, [`crate::Error::Cancelled`].
+pub fn render(p: &Prepared, shot: &Shot) -> Result<RenderOutput> {
+    let environment = p.environment(shot.turn_deg);
+    let height = shot.settings.height;
+    let camera = &shot.camera;
+    // Droplets smaller than a pixel show their share of it (see render's camera ray).
+    let footprints =
+        (p.scene.staging.droplets).footprints(|c| camera.pixel_footprint(c, height))?;
+    let world = WorldRef {
+        camera,
+        environment: &environment,
+        footprints: footprints.as_ref(),
+        ..WorldRef::from(&p.scene)
+    };
+    crate::render::render(world, &p.shader, &shot.settings)
 }

@@ -2,6 +2,7 @@
 //! and the scientific views with their colour bars.
 
 use super::prepared::Prepared;
+use super::shot::Shot;
 use crate::image::{
     ExrLayers, Grade, RgbImage, Srgb8Image, ToneMap, to_srgb8, write_exr, write_png,
 };
@@ -27,9 +28,10 @@ pub(super) fn scene_width(view: View, width: usize, height: usize) -> usize {
 }
 
 /// Writes `out` to `path`: PNG (exposure + tone curve + sRGB) or EXR (linear RGBA plus depth,
-/// normal, thickness and hit-count layers), by extension. Written atomically.
-pub fn write_image(p: &Prepared, out: &RenderOutput, path: &Path) -> Result<()> {
-    write_output(out, &p.grade, p.exposure, p.tonemap, path)
+/// normal, thickness and hit-count layers), by extension, with `shot`'s grading, exposure and
+/// tone curve. Written atomically.
+pub fn write_image(shot: &Shot, out: &RenderOutput, path: &Path) -> Result<()> {
+    write_output(out, &shot.grade, shot.exposure, shot.tonemap, path)
 }
 
 /// [`write_image`] with the grading, exposure (EV) and tone curve given directly.
@@ -73,8 +75,8 @@ pub fn write_output(
 
 /// The 8-bit sRGB pixels of `out` that its PNG holds (graded, exposed, tone mapped): what
 /// [`write_image`] writes to a .png, and what a movie is fed.
-pub fn image_srgb8(p: &Prepared, out: &RenderOutput) -> Result<Srgb8Image> {
-    output_srgb8(out, &p.grade, p.exposure, p.tonemap)
+pub fn image_srgb8(shot: &Shot, out: &RenderOutput) -> Result<Srgb8Image> {
+    output_srgb8(out, &shot.grade, shot.exposure, shot.tonemap)
 }
 
 /// [`image_srgb8`] with the grading, exposure (EV) and tone curve given directly.
@@ -105,18 +107,23 @@ pub fn view_srgb8(v: &ViewImage) -> Result<Srgb8Image> {
     })
 }
 
-/// Renders the prepared scene's scientific view (see [`View`]); `None` for the shaded view.
+/// Renders `shot`'s scientific view (see [`View`]) of a prepared scene, reading `p` only;
+/// `None` for the shaded view.
 /// The picture is exactly the settings' width × height: a view with a colour bar renders the
 /// scene in the columns the bar leaves (see [`crate::figure::colour_bar_width`]) and draws the
 /// bar, its labels matching [`crate::render::Legend::colour`], in the rest.
-pub fn render_view(p: &Prepared) -> Result<Option<ViewImage>> {
-    if p.view == View::Shaded {
+pub fn render_view(p: &Prepared, shot: &Shot) -> Result<Option<ViewImage>> {
+    if shot.view == View::Shaded {
         return Ok(None);
     }
-    let (width, height) = (p.settings.width, p.settings.height);
-    let scene_w = scene_width(p.view, width, height);
+    let (width, height) = (shot.settings.width, shot.settings.height);
+    let scene_w = scene_width(shot.view, width, height);
+    let world = crate::render::WorldRef {
+        camera: &shot.camera,
+        ..(&p.scene).into()
+    };
     let mut v =
-        crate::render::render_view_of(&p.scene, p.view, scene_w, height, p.attribute.as_ref())?;
+        crate::render::render_view_of(world, shot.view, scene_w, height, p.attribute.as_ref())?;
     if let Some(l) = &v.legend {
         let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
         let img = RgbImage::from_data(v.width, v.height, data)?;

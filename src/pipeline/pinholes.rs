@@ -18,17 +18,17 @@ use std::path::Path;
 
 use super::Prepared;
 
-/// The pinhole counts of a render `out` of `p` whose film particles `span` describes:
+/// The pinhole counts of a render `out` of `p`'s default shot ([`Prepared::shot`]) whose film particles `span` describes:
 /// interior pixels (droplets' pixels left out, as the render's own summary does), and the
 /// missing ones where the data holds film in front of whatever the ray found (the front layer
 /// at least a spacing before the hit). Cost: the metric plus one [`FilmSpan::crosses`] per
 /// missing pixel.
 pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) -> FrontLayer {
-    let (w, h) = (p.settings.width, p.settings.height);
+    let (w, h) = (p.shot.settings.width, p.shot.settings.height);
     let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
     let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
     let aspect = w as f32 / h as f32;
-    let camera = &p.scene.camera;
+    let camera = &p.shot.camera;
     let missing = missing
         .par_iter()
         .filter(|&&k| {

@@ -1,15 +1,21 @@
 //! What preparing a scene gives: everything ready to render, and notes for the user.
 
 use super::framing::Framing;
-use crate::image::{Grade, ToneMap};
-use crate::render::{AttributeValues, FilmShader, RenderSettings, Scene, View};
+use super::shot::Shot;
+use crate::render::{AttributeValues, Environment, FilmShader, Scene};
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// Everything ready to render, plus what it cost to get here.
+/// Everything ready to render, plus what it cost to get here. Never written to once prepared:
+/// each render takes a [`Shot`] (camera, light turn, view, settings, exposure), so the CLI's
+/// frames, the viewer's tabs and Python's calls share one `Prepared` (behind an `Arc` across
+/// threads) and render it at once.
 #[derive(Debug)]
 pub struct Prepared {
-    /// Geometry, camera and light.
+    /// Geometry, distances, studio (droplets at their own size) and the environment as
+    /// prepared, before any turn. Its camera is the scene file's, as prepared: renders take
+    /// theirs from a [`Shot`] ([`Prepared::shot`] starts with this one).
     pub scene: Scene,
     /// What auto-framing frames of this cloud (used for the camera unless the scene names a
     /// position; a sequence frames once, see `framing`).
@@ -17,24 +23,13 @@ pub struct Prepared {
     /// Width / height of the part of the image the scene fills (the image without a view's
     /// colour bar): the aspect auto-framing frames for.
     pub aspect: f32,
-    /// Degrees the environment is turned about +y (a turntable's frame; see
-    /// [`Prepared::turn_light`]).
-    pub turn_deg: f32,
-    /// The environment as prepared, before any turn (kept once it is first turned, so turning
-    /// back gives it exactly).
-    pub unturned: Option<crate::render::Environment>,
+    /// The environment turned as the scene file turns it (its degrees and the turned copy;
+    /// `None` when it is not turned), so the default shot's renders need no copy.
+    pub(super) turned: Option<(f32, Environment)>,
     /// The film shader.
     pub shader: FilmShader,
-    /// Sampling settings.
-    pub settings: RenderSettings,
-    /// Exposure, EV.
-    pub exposure: f32,
-    /// Tone curve for PNG output.
-    pub tonemap: ToneMap,
-    /// Grading (white balance, contrast, saturation) before the tone curve.
-    pub grade: Grade,
-    /// What to show.
-    pub view: View,
+    /// The picture the scene file describes: its camera, turn, view, settings and exposure.
+    pub shot: Shot,
     /// Output path from the scene file, resolved against its folder.
     pub output: Option<PathBuf>,
     /// The values of an `attribute:NAME` view, one per film particle (`None` for other views).
@@ -54,47 +49,48 @@ pub struct Prepared {
 }
 
 impl Prepared {
-    /// Points this prepared scene's camera at `desc`'s `[camera]`, turns its light as `desc`
-    /// turns it (a turntable) and takes its exposure (a
-    /// turntable's next frame, a camera path's next key): the geometry stays as prepared, the
-    /// droplets' pixel footprints follow the new camera, as a fresh preparation would set them.
+    /// The default shot aimed at `desc`'s `[camera]`, its light turned as `desc` turns it (a
+    /// turntable) and its exposure taken (a turntable's next frame, a camera path's next key):
+    /// the geometry stays as prepared; the droplets' pixel footprints follow the new camera
+    /// when it renders, as a fresh preparation would set them.
     ///
     /// # Errors
     /// As [`super::camera`] for a bad `[camera]`; [`crate::Error::Invalid`] for a bad
     /// exposure.
-    pub fn aim(&mut self, desc: &crate::scene::SceneDesc) -> crate::Result<()> {
-        let camera = super::camera(desc, &self.framing, self.aspect)?;
-        let height = self.settings.height;
-        let droplets = &mut self.scene.staging.droplets;
-        droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
-        self.scene.camera = camera;
-        self.turn_light(desc.environment.turn_deg);
-        self.exposure = super::config::exposure(&desc.output)?;
-        Ok(())
+    pub fn aimed(&self, desc: &crate::scene::SceneDesc) -> crate::Result<Shot> {
+        Ok(Shot {
+            camera: super::camera(desc, &self.framing, self.aspect)?,
+            turn_deg: desc.environment.turn_deg,
+            exposure: super::config::exposure(&desc.output)?,
+            ..self.shot.clone()
+        })
     }
 
-    /// Turns the environment `deg` degrees about +y from where it was prepared (see
-    /// [`crate::render::Environment::turn`]): exactly the prepared light again at 0, whatever
-    /// turns came before. Costs a copy of the environment (a map's texels) when turned.
-    pub fn turn_light(&mut self, deg: f32) {
-        if deg == self.turn_deg {
-            return;
+    /// The environment turned `deg` degrees about +y from where it was prepared (see
+    /// [`Environment::turn`]): exactly the prepared light at 0, whatever was rendered before.
+    /// Costs a copy of the environment (a map's texels) for a turn other than 0 and the scene
+    /// file's own.
+    pub fn environment(&self, deg: f32) -> Cow<'_, Environment> {
+        match &self.turned {
+            _ if deg == 0.0 => Cow::Borrowed(&self.scene.environment),
+            Some((d, env)) if *d == deg => Cow::Borrowed(env),
+            _ => Cow::Owned(turned(&self.scene.environment, deg)),
         }
-        let base = self
-            .unturned
-            .get_or_insert_with(|| self.scene.environment.clone());
-        let mut env = base.clone();
-        if deg != 0.0 {
-            env.turn(deg);
-        }
-        self.scene.environment = env;
-        self.turn_deg = deg;
     }
 
     /// Adds a note for the user.
     pub fn note(&mut self, text: impl Into<String>) {
         self.notes.push(Note::new(text));
     }
+}
+
+/// `env` turned `deg` degrees about +y (a copy; the same copy at 0).
+pub(super) fn turned(env: &Environment, deg: f32) -> Environment {
+    let mut env = env.clone();
+    if deg != 0.0 {
+        env.turn(deg);
+    }
+    env
 }
 
 /// A note for the user about what preparing a scene did.

@@ -5,7 +5,7 @@ use super::Prepared;
 use crate::image::visibility::{ColourVisibility, colour_visibility};
 use crate::render::RenderOutput;
 
-/// The share of `out`'s film pixels (covered, with a film thickness) whose colour is visible
+/// The share of `out`'s (a render of `p`'s default shot, [`Prepared::shot`]) film pixels (covered, with a film thickness) whose colour is visible
 /// (see [`crate::image::visibility`]). The backdrop of each pixel is the environment along the
 /// camera ray through its centre (props and area lights are not counted: the measure is of
 /// the environment's lighting). The display is the exposure and tone curve of the PNG.
@@ -13,8 +13,9 @@ use crate::render::RenderOutput;
 pub fn colour_visibility_of(p: &Prepared, out: &RenderOutput) -> ColourVisibility {
     let (w, h) = (out.width, out.height);
     let aspect = w as f32 / h.max(1) as f32;
-    let camera = &p.scene.camera;
-    let environment = &p.scene.environment;
+    let shot = &p.shot;
+    let camera = &shot.camera;
+    let environment = p.environment(shot.turn_deg);
     let backdrop: Vec<[f32; 3]> = (0..w * h)
         .map(|i| {
             let (x, y) = (i % w, i / w);
@@ -26,11 +27,11 @@ pub fn colour_visibility_of(p: &Prepared, out: &RenderOutput) -> ColourVisibilit
             environment.radiance(ray.dir).to_array()
         })
         .collect();
-    let gain = p.exposure.exp2();
+    let gain = shot.exposure.exp2();
     let pixel: Vec<[f32; 3]> = out.rgb.iter().map(|c| c.to_array()).collect();
     let display: Vec<[f32; 3]> = pixel
         .iter()
-        .map(|c| c.map(|v| p.tonemap.apply(v * gain)))
+        .map(|c| c.map(|v| shot.tonemap.apply(v * gain)))
         .collect();
     // Film pixels only: a droplet (water, no interference) may cover a pixel but holds no
     // film thickness.

@@ -17,7 +17,7 @@ use super::radiance::{Lanes, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading, ShadingMode};
 use super::transport::{PathState, Tracer};
-use super::world::{MAX_SPP, RenderSettings, World};
+use super::world::{MAX_SPP, RenderSettings, WorldRef};
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -53,7 +53,9 @@ pub struct RenderOutput {
 
 const TILE: usize = 16;
 
-/// Renders `scene` with `shader` and `settings`. Deterministic for a given seed.
+/// Renders `scene` (a `&World`, or a [`WorldRef`] of borrowed parts) with `shader` and
+/// `settings`. Deterministic for a given seed. Reads the scene only: renders of one scene with
+/// different cameras may run at once.
 ///
 /// # Example
 /// A lossless film in a uniform sky: what it reflects plus what it transmits is the sky
@@ -84,11 +86,12 @@ const TILE: usize = 16;
 /// }
 /// # Ok::<(), filmsplat::Error>(())
 /// ```
-pub fn render(
-    scene: &World,
+pub fn render<'a>(
+    scene: impl Into<WorldRef<'a>>,
     shader: &FilmShader,
     settings: &RenderSettings,
 ) -> Result<RenderOutput> {
+    let scene = scene.into();
     let (w, h) = (settings.width, settings.height);
     if w == 0 || h == 0 {
         return Err(Error::invalid(format!(
@@ -358,7 +361,7 @@ fn camera_sample(
     u: &mut Vec<f32>,
 ) -> (Vec3, FirstHits) {
     let (w, h) = (tr.settings.width, tr.settings.height);
-    let camera = &tr.scene.camera;
+    let camera = tr.scene.camera;
     let rng = &mut st.rng;
     u.clear();
     u.extend((0..shader.randoms_per_sample()).map(|_| rng.next_f32()));

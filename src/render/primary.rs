@@ -2,7 +2,7 @@
 //! than a pixel still shows its share of it, then the film, props and lights behind them.
 //!
 //! A camera ray that meets a grown droplet (radius g ≥ the droplet's r, see
-//! [`crate::geometry::Droplets::set_footprints`]) sees the droplet with weight (r/g)² of what
+//! [`crate::geometry::Droplets::footprints`]) sees the droplet with weight (r/g)² of what
 //! is left of the sample, shaded at the point of the true sphere with the same normal (a ray
 //! parallel to the camera ray meeting it there), and sees on past the grown sphere with the
 //! rest. Over a pixel's samples the expected droplet share is π r² / pixel area (the sample
@@ -48,7 +48,8 @@ impl Tracer<'_> {
         if !drops.is_empty() {
             for _ in 0..MAX_PARTIAL {
                 let t_max = self.opaque_distance(ray, t_min);
-                let Some(g) = drops.intersect_grown(ray, t_min, t_max) else {
+                let Some(g) = drops.intersect_grown(self.scene.footprints, ray, t_min, t_max)
+                else {
                     break;
                 };
                 let share = rest * g.coverage;

@@ -20,13 +20,13 @@ use super::material::Material;
 use super::props::PropHit;
 use super::radiance::{Lanes, Radiance};
 use super::sampler::Pcg32;
-use super::world::{RenderSettings, World};
+use super::world::{RenderSettings, WorldRef};
 use crate::geometry::{Ray, SurfaceHit};
 use glam::Vec3;
 
 /// The renderer's view of a scene for one render.
 pub(crate) struct Tracer<'a> {
-    pub scene: &'a World,
+    pub scene: WorldRef<'a>,
     pub settings: &'a RenderSettings,
     /// Environment sampling for props (None when the scene has no props).
     pub env: Option<EnvSampler>,
@@ -85,9 +85,9 @@ fn power(a: f32, b: f32) -> f32 {
 }
 
 impl<'a> Tracer<'a> {
-    pub fn new(scene: &'a World, settings: &'a RenderSettings) -> Self {
+    pub fn new(scene: WorldRef<'a>, settings: &'a RenderSettings) -> Self {
         let env = (settings.next_event && !scene.staging.props.is_empty())
-            .then(|| EnvSampler::new(&scene.environment));
+            .then(|| EnvSampler::new(scene.environment));
         Tracer {
             scene,
             settings,

@@ -1,7 +1,7 @@
 //! Scientific views: what the camera's first film crossing holds, drawn exactly and cheaply
 //! (no spectra, no ray tree, one ray through each pixel centre).
 
-use super::world::World;
+use super::world::{World, WorldRef};
 use crate::geometry::SurfaceHit;
 use crate::image::{srgb_to_linear, viridis};
 use crate::{Error, Result};
@@ -157,13 +157,14 @@ pub fn render_view(scene: &World, view: View, width: usize, height: usize) -> Re
 /// # Errors
 /// As [`render_view`]; an attribute view without values, or with a count that is not the
 /// geometry's, is refused.
-pub fn render_view_of(
-    scene: &World,
+pub fn render_view_of<'a>(
+    scene: impl Into<WorldRef<'a>>,
     view: View,
     width: usize,
     height: usize,
     attribute: Option<&AttributeValues>,
 ) -> Result<ViewImage> {
+    let scene = scene.into();
     if view == View::Attribute && attribute.is_none_or(|a| a.values.len() != scene.geometry.len()) {
         return Err(Error::invalid(format!(
             "the attribute view needs one value per particle ({} particles)",
@@ -195,7 +196,7 @@ pub fn render_view_of(
 }
 
 /// The first film crossing of each pixel's centre ray, row-major.
-fn primary_hits(scene: &World, width: usize, height: usize) -> Vec<Option<SurfaceHit>> {
+fn primary_hits(scene: WorldRef<'_>, width: usize, height: usize) -> Vec<Option<SurfaceHit>> {
     let aspect = width as f32 / height as f32;
     (0..width * height)
         .into_par_iter()

@@ -1,11 +1,12 @@
-//! What a render sees and how it runs: the [`World`] (films, camera, lighting, studio) and the
-//! [`RenderSettings`]. Shared by the integrator and the transport, so neither imports the other.
+//! What a render sees and how it runs: the [`World`] (films, camera, lighting, studio), the
+//! borrowed [`WorldRef`] a render reads it through, and the [`RenderSettings`]. Shared by the
+//! integrator and the transport, so neither imports the other.
 
 use super::camera::Camera;
 use super::environment::Environment;
 use super::lights::Light;
 use super::props::Props;
-use crate::geometry::{Droplets, FilmGeometry, LiquidSurface};
+use crate::geometry::{Droplets, FilmGeometry, GrownDroplets, LiquidSurface};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
 
@@ -26,6 +27,43 @@ pub struct World {
     pub epsilon: f32,
     /// Area lights and props (empty by default: then rays pay nothing for them).
     pub staging: Staging,
+}
+
+/// What one render reads, all borrowed: the parts a prepared scene shares between renders
+/// (films, studio, distances) and the render's own camera, lighting and droplet footprints. A
+/// render never writes to it, so many renders of one prepared scene, each with its own camera,
+/// run at once. `&World` converts into it (without droplet footprints).
+#[derive(Debug, Clone, Copy)]
+pub struct WorldRef<'a> {
+    /// The films.
+    pub geometry: &'a FilmGeometry,
+    /// The camera.
+    pub camera: &'a Camera,
+    /// The lighting.
+    pub environment: &'a Environment,
+    /// As [`World::layer_skip`], scene units.
+    pub layer_skip: f32,
+    /// As [`World::epsilon`], scene units.
+    pub epsilon: f32,
+    /// Area lights, props, droplets, liquid.
+    pub staging: &'a Staging,
+    /// The droplets grown to this camera's pixel footprints (see
+    /// [`Droplets::footprints`]); `None`: camera rays see the droplets at their own size.
+    pub footprints: Option<&'a GrownDroplets>,
+}
+
+impl<'a> From<&'a World> for WorldRef<'a> {
+    fn from(w: &'a World) -> Self {
+        WorldRef {
+            geometry: &w.geometry,
+            camera: &w.camera,
+            environment: &w.environment,
+            layer_skip: w.layer_skip,
+            epsilon: w.epsilon,
+            staging: &w.staging,
+            footprints: None,
+        }
+    }
 }
 
 /// The studio around the films: area lights and props.

@@ -6,22 +6,22 @@
 use super::params::{Job, Pass, Variant, ViewCamera};
 use super::picture::Picture;
 use crate::image::{RgbImage, ToneMap, to_srgb8};
-use crate::pipeline::{self, Prepared, framing, memory};
+use crate::pipeline::{self, Prepared, Shot, framing, memory};
 use crate::render::{Preset, RenderSettings, View};
 use crate::scene::{CameraDesc, SceneDesc};
 use crate::{Error, Result};
 use std::path::Path;
+use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
-use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Instant;
 
 /// A prepared scene variant: geometry, shader and settings, built once and rendered from any
-/// camera. Renders of one variant take turns (each sets its camera on the shared scene).
+/// camera. Read only: renders of one variant (two tabs on one frame) run at once, each with
+/// its own [`pipeline::Shot`].
 #[derive(Debug)]
 pub struct Built {
-    prepared: Mutex<Prepared>,
-    /// The settings as prepared (each render starts from them).
-    settings: RenderSettings,
+    /// The prepared scene; its default shot's settings are where each render starts.
+    prepared: Prepared,
     /// The variant's scene description (its lens keys apply to every camera).
     desc: SceneDesc,
     /// Film particles.
@@ -87,21 +87,13 @@ pub fn build(desc: &SceneDesc, base: &Path, v: &Variant) -> Result<Built> {
     let p = pipeline::prepare(&desc, base, false).map_err(|e| desc.locate(e))?;
     let count = (p.particles + p.droplets) as u64;
     Ok(Built {
-        settings: p.settings.clone(),
         particles: p.particles,
         droplets: p.droplets,
         bytes: count * (memory::GEOMETRY_BYTES_PER_PARTICLE + 4) + memory::FIXED_BYTES,
         build_seconds: t.elapsed().as_secs_f64(),
-        prepared: Mutex::new(p),
+        prepared: p,
         desc,
     })
-}
-
-impl Built {
-    fn lock(&self) -> MutexGuard<'_, Prepared> {
-        // A panicked render leaves the scene intact: only the camera and settings are written.
-        self.prepared.lock().unwrap_or_else(|e| e.into_inner())
-    }
 }
 
 /// The camera the page starts from: the scene's (its position, or auto-framed on `built`'s
@@ -110,7 +102,7 @@ impl Built {
 /// # Errors
 /// As [`framing::sequence_camera`].
 pub fn start_camera(desc: &SceneDesc, built: &Built) -> Result<ViewCamera> {
-    let p = built.lock();
+    let p = &built.prepared;
     let c = framing::sequence_camera(desc, &p.framing, p.aspect)?
         .unwrap_or_else(|| desc.camera.clone());
     let position = c
@@ -202,19 +194,22 @@ pub fn render(built: &Built, job: &Job, cancel: Arc<AtomicBool>) -> Result<Pictu
         .view
         .parse()
         .map_err(|e: String| Error::invalid(format!("view: {e}")))?;
-    let mut p = built.lock();
-    let settings = pass_settings(&built.settings, job, cancel);
+    let p = &built.prepared;
+    let settings = pass_settings(&p.shot.settings, job, cancel);
     let spp = settings.spp;
     let desc = SceneDesc {
         camera: camera_desc(&built.desc, &job.camera),
         ..SceneDesc::default()
     };
     let aspect = pipeline::scene_aspect(view, job.width, job.height);
-    p.scene.camera = pipeline::camera(&desc, &p.framing, aspect)?;
-    p.view = view;
-    p.settings = settings;
+    let shot = Shot {
+        camera: pipeline::camera(&desc, &p.framing, aspect)?,
+        view,
+        settings,
+        ..p.shot.clone()
+    };
     let t = Instant::now();
-    let rgb8 = if let Some(v) = pipeline::render_view(&p)? {
+    let rgb8 = if let Some(v) = pipeline::render_view(p, &shot)? {
         let data = v.rgb.iter().map(|c| c.to_array()).collect();
         to_srgb8(
             &RgbImage::from_data(v.width, v.height, data)?,
@@ -222,12 +217,12 @@ pub fn render(built: &Built, job: &Job, cancel: Arc<AtomicBool>) -> Result<Pictu
             ToneMap::Clamp,
         )
     } else {
-        let out = pipeline::render(&p)?;
+        let out = pipeline::render(p, &shot)?;
         let data = out.rgb.iter().map(|c| c.to_array()).collect();
-        let img = p
+        let img = shot
             .grade
             .apply(&RgbImage::from_data(out.width, out.height, data)?);
-        to_srgb8(&img, job.exposure.unwrap_or(p.exposure), p.tonemap)
+        to_srgb8(&img, job.exposure.unwrap_or(shot.exposure), shot.tonemap)
     };
     Ok(Picture {
         width: job.width,
