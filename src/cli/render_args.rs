@@ -228,8 +228,9 @@ pub struct RenderArgs {
     pub(super) in_memory: bool,
     /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
     /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
-    /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
-    /// that cannot be read). A SIZE above it lets a render try anyway.
+    /// Default: the memory available to the process (MemAvailable in /proc/meminfo, lowered to
+    /// its cgroup's memory limit, v1 or v2, as Slurm sets it; no limit where that cannot be
+    /// read). A SIZE above it lets a render try anyway.
     #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
     pub(super) max_memory: Option<u64>,
     /// No progress bar or summary.
