@@ -10,11 +10,11 @@ use std::path::PathBuf;
 #[command(after_help = attribute_help())]
 pub struct RenderArgs {
     /// Particle inputs, rendered together as one scene: files (.ply, .vtk, .vtu/.vtp, .pvd,
-    /// .bgeo[.gz], .csv/.xyz), frame or snapshot folders of the thin-film SPH code (film and
-    /// droplets), MELP foam frame folders (every bubble); or one scene file (.toml). `-` reads a
-    /// particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe such as
-    /// `<(cat f.ply)`; a single quoted glob ('frames/*.ply': * and ? in the file name) renders
-    /// every match, sorted, as a sequence.
+    /// .bgeo[.gz], .csv/.tsv/.xyz/.txt), frame or snapshot folders of the thin-film SPH code
+    /// (film and droplets), MELP foam frame folders (every bubble); or one scene file (.toml).
+    /// `-` reads a particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe
+    /// such as `<(cat f.ply)`; a single quoted glob ('frames/*.ply': * and ? in the file name)
+    /// renders every match, sorted, as a sequence.
     #[arg(required = true, num_args = 1..)]
     pub(super) inputs: Vec<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,

@@ -69,6 +69,12 @@ const VIEWER_FILES: &[(&str, usize, &str)] = &[
     ("segment_mesh", 8, "viewer local frames"),
 ];
 
+/// True if `dir` is a frame folder: it holds `x_bin` (or, without it, the viewer's
+/// `tracker_points`).
+pub(crate) fn is_frame_folder(dir: &Path) -> bool {
+    dir.join("x_bin").is_file() || dir.join("tracker_points").is_file()
+}
+
 /// Reads the frame folder `dir`'s film into a [`PointCloud`] (see the module docs).
 ///
 /// Cost: reads every `*_bin` file once; peak memory is the cloud plus the largest file.
