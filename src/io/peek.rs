@@ -218,4 +218,30 @@ mod tests {
         let text = b"x,y,z,abc\n".repeat(11);
         assert_eq!(text_lines_estimate(&text, 1000), 100);
     }
+
+    /// A collection's estimate is its first timestep's files' (the XML's own size said
+    /// nothing: 250-particle files named twice were ~0 particles, not exact).
+    #[test]
+    fn a_collection_sums_its_first_timestep() {
+        let dir = std::env::temp_dir().join(format!("filmsplat-peek-pvd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+        std::fs::copy(data.join("fluid_250_particles.vtu"), dir.join("a.vtu")).unwrap();
+        let pvd = dir.join("run.pvd");
+        std::fs::write(
+            &pvd,
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\"><Collection>\n\
+             <DataSet timestep=\"0\" part=\"0\" file=\"a.vtu\"/>\n\
+             <DataSet timestep=\"0\" part=\"1\" file=\"a.vtu\"/>\n\
+             <DataSet timestep=\"1\" part=\"0\" file=\"a.vtu\"/>\n\
+             </Collection></VTKFile>\n",
+        )
+        .unwrap();
+        let hint = peek_count(&pvd).unwrap();
+        let vtu_bytes = std::fs::metadata(dir.join("a.vtu")).unwrap().len();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(hint.format, CloudFormat::Pvd);
+        assert_eq!((hint.particles, hint.exact), (500, true));
+        assert_eq!((hint.file_bytes, hint.reads_whole_file), (vtu_bytes, true));
+    }
 }
