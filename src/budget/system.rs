@@ -36,8 +36,9 @@ pub fn available_bytes() -> Option<u64> {
     available_with(&|p| std::fs::read_to_string(p).ok())
 }
 
-/// [`available_bytes`] with the files read by `read` (a path's whole text, `None` if it cannot
-/// be read), so fixtures can stand in for `/proc` and `/sys`.
+/// [`available_memory`](crate::budget::available_memory) with the files read by `read` (a
+/// path's whole text, `None` if it cannot be read), so fixtures can stand in for `/proc` and
+/// `/sys`.
 pub fn available_with(read: &dyn Fn(&Path) -> Option<String>) -> Option<u64> {
     let meminfo = read(Path::new("/proc/meminfo")).and_then(|t| parse_meminfo(&t));
     let cgroup = read(Path::new("/proc/self/cgroup")).and_then(|t| cgroup_room(&t, read));
