@@ -2,11 +2,24 @@
 //! flag or a scene key is checked here first, so a run refuses (exit 2, naming what asked for
 //! the memory) instead of aborting with "memory allocation failed" or meeting the OOM killer.
 //!
-//! The allowance is the memory available now: Linux's `MemAvailable` (`/proc/meminfo`), lowered
-//! to the cgroup's `memory.max` minus its `memory.current` when running in a limited container,
-//! or 16 GiB where neither is known. `FILMSPLAT_MEMORY_LIMIT` (a size such as `512M` or `8G`)
+//! The allowance is the memory available now, [`available_memory`]: Linux's `MemAvailable`
+//! (`/proc/meminfo`), lowered to the room under the memory limits of the process's cgroups (v2
+//! `memory.max`, v1 `memory.limit_in_bytes`, as Slurm and containers set them), or 16 GiB where
+//! nothing is known. The same answer is `render --max-memory`'s default. `FILMSPLAT_MEMORY_LIMIT` (a size such as `512M` or `8G`)
 //! replaces it (tests use this; so can a shared machine), and [`set_allowance`] (the CLI's
 //! `--max-memory`) replaces both.
+
+mod system;
+
+pub use system::{available_with, cgroup_paths, parse_limit, parse_meminfo};
+
+/// The memory the operating system lets this process allocate now, bytes: `MemAvailable`
+/// lowered to the room under its cgroups' memory limits (v1 and v2, the process's cgroup and
+/// its ancestors); `None` where the system says nothing (not Linux). Cost: reads a few small
+/// `/proc` and `/sys` files.
+pub fn available_memory() -> Option<u64> {
+    system::available_bytes()
+}
 
 /// Allowance where the operating system says nothing: 16 GiB.
 const UNKNOWN_BYTES: u64 = 16 << 30;
@@ -20,7 +33,7 @@ pub fn set_allowance(bytes: u64) {
     SET_BYTES.store(bytes, std::sync::atomic::Ordering::Relaxed);
 }
 
-/// The memory this run may allocate, bytes (see the module docs). Cost: reads two small
+/// The memory this run may allocate, bytes (see the module docs). Cost: reads a few small
 /// `/proc` and `/sys` files.
 pub fn allowance_bytes() -> u64 {
     let set = SET_BYTES.load(std::sync::atomic::Ordering::Relaxed);
@@ -32,24 +45,7 @@ pub fn allowance_bytes() -> u64 {
     {
         return b;
     }
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
-        t.lines()
-            .find_map(|l| l.strip_prefix("MemAvailable:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-            .map(|kib| kib.saturating_mul(1024))
-    });
-    let read = |p: &str| {
-        std::fs::read_to_string(p)
-            .ok()
-            .and_then(|t| t.trim().parse::<u64>().ok())
-    };
-    let cgroup = read("/sys/fs/cgroup/memory.max")
-        .map(|max| max.saturating_sub(read("/sys/fs/cgroup/memory.current").unwrap_or(0)));
-    match (meminfo, cgroup) {
-        (Some(a), Some(b)) => a.min(b),
-        (Some(a), None) | (None, Some(a)) => a,
-        (None, None) => UNKNOWN_BYTES,
-    }
+    system::available_bytes().unwrap_or(UNKNOWN_BYTES)
 }
 
 /// Refuses `bytes` for `what` if they exceed the allowance: `Err` says how much `what` needs

@@ -6,13 +6,13 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 
+use super::compare_report::{FrameResult, Side, report};
 use super::render_args::RenderArgs;
 use super::render_scene::scene_from_args;
 use crate::figure::side_by_side;
 use crate::image::{RgbImage, ToneMap, metrics::delta_e_map, save_png};
 use crate::pipeline::compare::{
-    GeometryChoice, MeshOptions, Metrics, ShellOption, Variant, display_image, metrics,
-    prepare_pair,
+    GeometryChoice, MeshOptions, ShellOption, Variant, display_image, metrics, prepare_pair,
 };
 use crate::pipeline::sequence;
 use crate::pointcloud::Transfer;
@@ -92,33 +92,13 @@ fn transfer(s: &str) -> Result<Transfer> {
     }
 }
 
-/// One side's figures.
-#[derive(Debug)]
-struct Side {
-    label: String,
-    elements: usize,
-    prepare: Duration,
-    mesh: Option<Duration>,
-    meshing: Option<Duration>,
-    render: Duration,
-}
-
-/// One compared frame.
-struct FrameResult {
-    frame: Option<u64>,
-    sides: [Side; 2],
-    metrics: Metrics,
-    images: [RgbImage; 2],
-    output: PathBuf,
-}
-
 /// Runs `filmsplat compare`.
 pub fn run(a: &CompareArgs, out: &mut dyn Write, err: &mut dyn Write) -> Result<()> {
     let (mesh, output) = checked(a)?;
     let Some(frames) = &a.render.frames else {
         crate::atomic::prepare_output(&output)?;
         let r = compare_one(a, &mesh, None, &output, err)?;
-        report(a, std::slice::from_ref(&r), None, out);
+        report(a.json, a.render.quiet, std::slice::from_ref(&r), None, out);
         return Ok(());
     };
     compare_frames(a, &mesh, &frames.0, &output, out, err)
@@ -222,7 +202,7 @@ fn compare_frames(
     }
     let pairs = results.len().saturating_sub(1);
     let temporal = (pairs > 0).then(|| flicker.map(|s| s / pairs as f64));
-    report(a, &results, temporal, out);
+    report(a.json, a.render.quiet, &results, temporal, out);
     Ok(())
 }
 
@@ -312,150 +292,4 @@ fn side(v: &Variant, render: Duration) -> Side {
         meshing: v.meshing_time,
         render,
     }
-}
-
-fn secs(d: Option<Duration>) -> String {
-    d.map_or("null".into(), |d| format!("{:.4}", d.as_secs_f64()))
-}
-
-fn num(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.6}")
-    } else {
-        "null".into()
-    }
-}
-
-/// A JSON string literal.
-fn json_str(s: &str) -> String {
-    let mut o = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => o.push_str("\\\""),
-            '\\' => o.push_str("\\\\"),
-            c if (c as u32) < 0x20 => o.push_str(&format!("\\u{:04x}", c as u32)),
-            c => o.push(c),
-        }
-    }
-    o.push('"');
-    o
-}
-
-fn side_json(s: &Side) -> String {
-    format!(
-        "{{\"geometry\":{},\"elements\":{},\"prepare_s\":{},\"mesh_s\":{},\"meshing_s\":{},\"render_s\":{}}}",
-        json_str(&s.label),
-        s.elements,
-        secs(Some(s.prepare)),
-        secs(s.mesh),
-        secs(s.meshing),
-        secs(Some(s.render))
-    )
-}
-
-fn metrics_json(m: &Metrics) -> String {
-    format!(
-        "\"psnr_db\":{},\"identical\":{},\"ssim\":{},\"delta_e\":{{\"mean\":{},\"p95\":{},\"max\":{}}}",
-        num(m.psnr_db),
-        m.psnr_db.is_infinite(),
-        num(m.ssim),
-        num(m.delta_e.mean),
-        num(m.delta_e.p95),
-        num(m.delta_e.max)
-    )
-}
-
-/// Prints the metrics (text or JSON) of one comparison or a sequence of them.
-fn report(
-    a: &CompareArgs,
-    results: &[FrameResult],
-    temporal: Option<[f64; 2]>,
-    out: &mut dyn Write,
-) {
-    if a.json {
-        let _ = writeln!(out, "{}", report_json(results, temporal));
-        return;
-    }
-    if a.render.quiet {
-        return;
-    }
-    for r in results {
-        if let Some(f) = r.frame {
-            let _ = writeln!(out, "frame {f}:");
-        }
-        for (k, s) in r.sides.iter().enumerate() {
-            let mut line = format!(
-                "  {}: {} ({} elements): prepare {:.3} s",
-                ["A", "B"][k],
-                s.label,
-                s.elements,
-                s.prepare.as_secs_f64()
-            );
-            if let Some(m) = s.meshing {
-                line += &format!(", meshing {:.3} s", m.as_secs_f64());
-            }
-            if let Some(m) = s.mesh {
-                line += &format!(", mesh prep {:.3} s", m.as_secs_f64());
-            }
-            line += &format!(", render {:.3} s", s.render.as_secs_f64());
-            let _ = writeln!(out, "{line}");
-        }
-        let m = &r.metrics;
-        let _ = writeln!(
-            out,
-            "  PSNR {} dB, SSIM {:.4}, ΔE2000 mean {:.3}, p95 {:.3}, max {:.3}; wrote {}",
-            if m.psnr_db.is_infinite() {
-                "inf".to_string()
-            } else {
-                format!("{:.2}", m.psnr_db)
-            },
-            m.ssim,
-            m.delta_e.mean,
-            m.delta_e.p95,
-            m.delta_e.max,
-            r.output.display()
-        );
-    }
-    if let Some(t) = temporal {
-        let _ = writeln!(
-            out,
-            "temporal stability (mean ΔE2000 between adjacent frames): A {:.3}, B {:.3}",
-            t[0], t[1]
-        );
-    }
-}
-
-/// The `--json` report: one object for a single comparison, else the frames and the flicker.
-fn report_json(results: &[FrameResult], temporal: Option<[f64; 2]>) -> String {
-    if let [r] = results
-        && r.frame.is_none()
-    {
-        return format!(
-            "{{\"a\":{},\"b\":{},{},\"output\":{}}}",
-            side_json(&r.sides[0]),
-            side_json(&r.sides[1]),
-            metrics_json(&r.metrics),
-            json_str(&r.output.display().to_string())
-        );
-    }
-    let frames: Vec<String> = results
-        .iter()
-        .map(|r| {
-            format!(
-                "{{\"frame\":{},\"a\":{},\"b\":{},{},\"output\":{}}}",
-                r.frame.unwrap_or(0),
-                side_json(&r.sides[0]),
-                side_json(&r.sides[1]),
-                metrics_json(&r.metrics),
-                json_str(&r.output.display().to_string())
-            )
-        })
-        .collect();
-    let t = temporal.map_or("null".into(), |t| {
-        format!("{{\"a\":{},\"b\":{}}}", num(t[0]), num(t[1]))
-    });
-    format!(
-        "{{\"frames\":[{}],\"temporal_delta_e\":{t}}}",
-        frames.join(",")
-    )
 }

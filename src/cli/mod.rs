@@ -4,6 +4,7 @@
 mod attributes;
 mod chart;
 mod compare;
+mod compare_report;
 mod convert;
 mod encode;
 mod film;

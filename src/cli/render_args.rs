@@ -10,11 +10,11 @@ use std::path::PathBuf;
 #[command(after_help = attribute_help())]
 pub struct RenderArgs {
     /// Particle inputs, rendered together as one scene: files (.ply, .vtk, .vtu/.vtp, .pvd,
-    /// .bgeo[.gz], .csv/.xyz), frame or snapshot folders of the thin-film SPH code (film and
-    /// droplets), MELP foam frame folders (every bubble); or one scene file (.toml). `-` reads a
-    /// particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe such as
-    /// `<(cat f.ply)`; a single quoted glob ('frames/*.ply': * and ? in the file name) renders
-    /// every match, sorted, as a sequence.
+    /// .bgeo[.gz], .csv/.tsv/.xyz/.txt), frame or snapshot folders of the thin-film SPH code
+    /// (film and droplets), MELP foam frame folders (every bubble); or one scene file (.toml).
+    /// `-` reads a particle file (PLY, VTK, VTK XML or BGEO) from standard input, as does a pipe
+    /// such as `<(cat f.ply)`; a single quoted glob ('frames/*.ply': * and ? in the file name)
+    /// renders every match, sorted, as a sequence.
     #[arg(required = true, num_args = 1..)]
     pub(super) inputs: Vec<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear RGBA + depth, normal, thickness,
@@ -228,8 +228,9 @@ pub struct RenderArgs {
     pub(super) in_memory: bool,
     /// Refuse to render (exit 2, before loading anything) if the estimated peak memory
     /// exceeds SIZE, e.g. 8G or 512M (binary units; see `filmsplat info` for the estimate).
-    /// Default: the machine's available memory (MemAvailable in /proc/meminfo; no limit where
-    /// that cannot be read). A SIZE above it lets a render try anyway.
+    /// Default: the memory available to the process (MemAvailable in /proc/meminfo, lowered to
+    /// its cgroup's memory limit, v1 or v2, as Slurm sets it; no limit where that cannot be
+    /// read). A SIZE above it lets a render try anyway.
     #[arg(long, value_name = "SIZE", value_parser = crate::pipeline::memory::parse_size)]
     pub(super) max_memory: Option<u64>,
     /// No progress bar or summary.

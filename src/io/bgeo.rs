@@ -29,6 +29,25 @@ use super::num::Num;
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
 
+/// The point count of a BGEO V5 header in a file's first bytes (for gzip data, its first 64
+/// inflated bytes): `BgeoV`, version (i32 BE), then the point count (i32 BE).
+pub(crate) fn header_count(head: &[u8]) -> Option<u64> {
+    let mut inner = Vec::new();
+    let b = if head.starts_with(&[0x1f, 0x8b]) {
+        let _ = flate2::read::GzDecoder::new(head)
+            .take(64)
+            .read_to_end(&mut inner);
+        inner.as_slice()
+    } else {
+        head
+    };
+    if !b.starts_with(b"BgeoV") || b.len() < 13 {
+        return None;
+    }
+    let n = i32::from_be_bytes(b[9..13].try_into().ok()?);
+    u64::try_from(n).ok()
+}
+
 /// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
 /// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
 /// check the options and name the file in errors.

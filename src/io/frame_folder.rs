@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::columns::{Aliases, Columns};
-use super::sim_arrays::{decode_floats, float_count};
+use super::sim_arrays::{SCALAR_OR_VECTOR, decode_floats, decode_layout, float_count};
 use super::{AttributeRole, CloudPart, PartKind, StoredAttribute};
 use super::{FRAME_NORMAL_ALIASES, FRAME_THICKNESS_ALIASES, RADIUS_ALIASES, ReadOptions};
 use super::{format_error, read_file};
@@ -68,6 +68,12 @@ const VIEWER_FILES: &[(&str, usize, &str)] = &[
     ("point_sa", 8, "viewer segments of SA"),
     ("segment_mesh", 8, "viewer local frames"),
 ];
+
+/// True if `dir` is a frame folder: it holds `x_bin` (or, without it, the viewer's
+/// `tracker_points`).
+pub(crate) fn is_frame_folder(dir: &Path) -> bool {
+    dir.join("x_bin").is_file() || dir.join("tracker_points").is_file()
+}
 
 /// Reads the frame folder `dir`'s film into a [`PointCloud`] (see the module docs).
 ///
@@ -329,54 +335,11 @@ pub fn read_bin_bytes(bytes: &[u8], path: &Path) -> Result<(usize, Vec<f32>)> {
     parse(bytes).map_err(|m| format_error(path, FORMAT, m))
 }
 
-/// Decodes one `*_bin` file: returns (components, values as f32). An empty file body
-/// (count 0) reads as scalar.
+/// Decodes one `*_bin` file ([`decode_layout`] of f64 scalars or 3-vectors): returns
+/// (components, values as f32). An empty file body (count 0) reads as scalar.
 fn parse(bytes: &[u8]) -> std::result::Result<(usize, Vec<f32>), String> {
-    let Some((head, body)) = bytes.split_first_chunk::<4>() else {
-        return Err(format!(
-            "{} bytes: shorter than its 4-byte count",
-            bytes.len()
-        ));
-    };
-    let n = u64::from(u32::from_le_bytes(*head));
-    let have = body.len() as u64;
-    let k = if have == 8 * n {
-        1
-    } else if have == 24 * n {
-        3
-    } else if have < 8 * n {
-        return Err(format!(
-            "truncated: count {n} needs {} bytes (scalars) or {} (vectors) after the count, \
-             the file has {have}: data runs out at value {} (byte offset {})",
-            8 * n,
-            24 * n,
-            have / 8,
-            4 + have / 8 * 8
-        ));
-    } else if have < 24 * n {
-        return Err(format!(
-            "truncated or malformed: count {n} needs {} bytes (scalars) or {} (vectors) after \
-             the count, the file has {have}: as vectors the data runs out at particle {} \
-             (byte offset {})",
-            8 * n,
-            24 * n,
-            have / 24,
-            4 + have / 24 * 24
-        ));
-    } else {
-        return Err(format!(
-            "size {} bytes matches neither 4 + 8n = {} (scalars) nor 4 + 24n = {} (vectors) \
-             for its count n = {n}",
-            bytes.len(),
-            4 + 8 * n,
-            4 + 24 * n
-        ));
-    };
-    let v = body
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f32)
-        .collect();
-    Ok((k, v))
+    let e = decode_layout(bytes, None, SCALAR_OR_VECTOR)?;
+    Ok((e.kind.components, e.values_f32()))
 }
 
 #[cfg(test)]
@@ -396,7 +359,7 @@ mod tests {
         assert_eq!((k, v.len()), (3, 3));
         assert_eq!(parse(&file(0, &[])).unwrap(), (1, vec![]));
         let e = parse(&file(3, &[1.0, 2.0])).unwrap_err();
-        assert!(e.contains("truncated") && e.contains("value 2"), "{e}");
+        assert!(e.contains("truncated") && e.contains("particle 2"), "{e}");
         let e = parse(&file(1, &[1.0, 2.0])).unwrap_err();
         assert!(e.contains("runs out at particle 0"), "{e}");
         let e = parse(&file(1, &[1.0, 2.0, 3.0, 4.0])).unwrap_err();

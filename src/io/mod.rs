@@ -2,7 +2,8 @@
 //!
 //! [`read_cloud`] picks the reader ([`detect_format`]) from the file's first bytes (magic),
 //! else its extension, or for a directory its content, and every reader fills the same
-//! [`PointCloud`](crate::pointcloud::PointCloud):
+//! [`PointCloud`](crate::pointcloud::PointCloud). What each format is (extensions, magic,
+//! reader, size estimate, help) is one row of [`formats::FORMATS`]:
 //!
 //! | format | reader | thickness unit by default |
 //! |---|---|---|
@@ -32,6 +33,7 @@
 pub mod bgeo;
 mod columns;
 pub mod csv;
+pub mod formats;
 pub mod frame_folder;
 pub mod input;
 mod melp;
@@ -51,13 +53,13 @@ pub mod vtu;
 mod write_ply;
 mod xml;
 
+pub use formats::detect_format;
 pub use obj::read_mesh;
 pub use part::{CloudPart, PartKind};
 pub use peek::{CountHint, peek_count};
 pub use read::{read_as, read_bytes, read_cloud, read_cloud_described, read_parts, read_timestep};
 pub use write_ply::{write_droplets_ply, write_mesh_ply, write_ply};
 
-use std::io::Read;
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -232,150 +234,10 @@ pub enum CloudFormat {
 }
 
 impl CloudFormat {
-    /// Display name, e.g. `"PLY"`.
+    /// Display name, e.g. `"PLY"` (its row of [`formats::FORMATS`]).
     pub fn name(self) -> &'static str {
-        match self {
-            CloudFormat::Ply => "PLY",
-            CloudFormat::VtkLegacy => "VTK legacy",
-            CloudFormat::VtkXml => "VTK XML",
-            CloudFormat::Bgeo => "BGEO",
-            CloudFormat::Csv => "CSV",
-            CloudFormat::FrameFolder => "frame folder",
-            CloudFormat::SnapshotFolder => "snapshot folder",
-            CloudFormat::MelpFolder => "MELP frame folder",
-            CloudFormat::Pvd => "PVD collection",
-        }
+        formats::info(self).name
     }
-}
-
-/// The format named by a file's first bytes, if any. `gzip` is the first bytes of the
-/// decompressed content when the file is gzip-compressed.
-fn sniff(head: &[u8]) -> Option<CloudFormat> {
-    if head.starts_with(b"ply\n") || head.starts_with(b"ply\r") {
-        Some(CloudFormat::Ply)
-    } else if head.starts_with(b"# vtk DataFile") {
-        Some(CloudFormat::VtkLegacy)
-    } else if head.starts_with(b"Bgeo") || head.starts_with(b"\x7fNSJ") {
-        Some(CloudFormat::Bgeo)
-    } else if head.starts_with(b"<?xml") || head.starts_with(b"<VTKFile") {
-        Some(CloudFormat::VtkXml)
-    } else {
-        None
-    }
-}
-
-/// The format a path's extension names (case-insensitive: ply, vtk, vtu, vtp, bgeo, bgeo.gz,
-/// csv, tsv, xyz, txt), if any.
-fn by_extension(path: &Path) -> Option<CloudFormat> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    let ext = name.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
-    match ext {
-        "ply" => Some(CloudFormat::Ply),
-        "vtk" => Some(CloudFormat::VtkLegacy),
-        "vtu" | "vtp" => Some(CloudFormat::VtkXml),
-        "bgeo" => Some(CloudFormat::Bgeo),
-        "gz" if name.ends_with(".bgeo.gz") => Some(CloudFormat::Bgeo),
-        "csv" | "tsv" | "xyz" | "txt" => Some(CloudFormat::Csv),
-        _ => None,
-    }
-}
-
-/// The format told by a file's first bytes (inflating the start of gzip data), else by the
-/// extension of `path`.
-pub(crate) fn by_content(head: &[u8], path: &Path) -> Result<CloudFormat> {
-    let unknown = |message: String| Error::Format {
-        path: path.to_path_buf(),
-        format: "particle file",
-        message,
-    };
-    if let Some(f) = sniff(head) {
-        return Ok(f);
-    }
-    if head.starts_with(&[0x1f, 0x8b]) {
-        let mut inner = Vec::with_capacity(16);
-        let _ = flate2::read::GzDecoder::new(head)
-            .take(16)
-            .read_to_end(&mut inner);
-        match sniff(&inner) {
-            Some(CloudFormat::Bgeo) => return Ok(CloudFormat::Bgeo),
-            Some(f) => {
-                return Err(unknown(format!(
-                    "gzip-compressed {} is not supported (only BGEO); decompress it first",
-                    f.name()
-                )));
-            }
-            None => {}
-        }
-    }
-    by_extension(path).ok_or_else(|| {
-        unknown(if head.is_empty() {
-            "empty file".to_string()
-        } else {
-            "unrecognised format (supported: PLY, VTK legacy, VTK XML .vtu/.vtp, BGEO, \
-             CSV/XYZ, frame folders)"
-                .to_string()
-        })
-    })
-}
-
-/// Decides a file's format: a directory holding `x_bin` is a frame folder; a file is decided
-/// by its first bytes (for gzip, the decompressed first bytes), else by its extension
-/// (case-insensitive: ply, vtk, vtu, vtp, bgeo, bgeo.gz, csv, tsv, xyz, txt).
-///
-/// A pipe or standard input (`-`) is not opened (its bytes can be read only once; [`read_cloud`]
-/// tells its format from them): only its extension can decide here.
-///
-/// Cost: opens the file and reads (and, for gzip, inflates) at most a few hundred bytes.
-///
-/// # Errors
-/// [`Error::Io`] if the path cannot be opened; [`Error::Format`] if neither the content nor
-/// the extension is a known format, a directory has no `x_bin`, the path is a device or a
-/// socket, or a pipe's name has no known extension.
-pub fn detect_format(path: &Path) -> Result<CloudFormat> {
-    let unknown = |message: String| Error::Format {
-        path: path.to_path_buf(),
-        format: "particle file",
-        message,
-    };
-    match input::kind(path)? {
-        input::Kind::Dir => {
-            return if path.join("x_bin").is_file() || path.join("tracker_points").is_file() {
-                Ok(CloudFormat::FrameFolder)
-            } else if path.join("x.bin").is_file() {
-                Ok(CloudFormat::SnapshotFolder)
-            } else if melp_folder::is_melp_folder(path) {
-                Ok(CloudFormat::MelpFolder)
-            } else {
-                Err(unknown(
-                    "a directory that is no simulator frame folder (expected x_bin or \
-                     tracker_points of the thin-film SPH code, x.bin of its snapshots, or \
-                     MELP's l_tracker_points_0)"
-                        .to_string(),
-                ))
-            };
-        }
-        input::Kind::Stdin | input::Kind::Pipe => {
-            return by_extension(path).ok_or_else(|| {
-                unknown("a pipe's format is told from its bytes when it is read".to_string())
-            });
-        }
-        input::Kind::File(_) => {}
-    }
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("pvd"))
-    {
-        return Ok(CloudFormat::Pvd);
-    }
-    // 4 KiB: enough to inflate the first bytes of gzip data.
-    let mut head = Vec::with_capacity(4096);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(4096).read_to_end(&mut head))
-        .map_err(|e| Error::io(path, e))?;
-    by_content(&head, path)
 }
 
 /// What filmsplat reads a stored attribute as.

@@ -1,5 +1,19 @@
 //! Binary numbers shared by the columnar readers: a type tag and a bulk decoder to f32.
 
+/// The decimal number after the first `key` in a file's first bytes `head` (the counts of
+/// the PLY, VTK legacy and VTK XML headers), if any.
+pub(crate) fn keyword_count(head: &[u8], key: &[u8]) -> Option<u64> {
+    let at = head.windows(key.len()).position(|w| w == key)? + key.len();
+    let digits: Vec<u8> = head[at..]
+        .iter()
+        .copied()
+        .skip_while(|c| *c == b' ')
+        .take_while(u8::is_ascii_digit)
+        .take(20)
+        .collect();
+    std::str::from_utf8(&digits).ok()?.parse().ok()
+}
+
 /// A binary number type (as named by VTK, VTU, BGEO).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Num {

@@ -3,7 +3,8 @@
 use std::io::Read;
 use std::path::Path;
 
-use super::{CloudFormat, detect_format};
+use super::CloudFormat;
+use super::formats::{Reader, SizeEstimate, by_extension, detect_format, info};
 use crate::error::{Error, Result};
 
 /// Bytes of a file's start searched for a header count.
@@ -42,7 +43,7 @@ pub fn peek_count(path: &Path) -> Result<CountHint> {
         // A pipe can be read only once: nothing is known before the reader reads it (its size
         // is bounded by `input::STREAM_LIMIT_BYTES`).
         return Ok(CountHint {
-            format: super::by_extension(path).unwrap_or(CloudFormat::Ply),
+            format: by_extension(path).unwrap_or(CloudFormat::Ply),
             particles: 0,
             exact: false,
             file_bytes: 0,
@@ -50,15 +51,17 @@ pub fn peek_count(path: &Path) -> Result<CountHint> {
         });
     }
     let format = detect_format(path)?;
-    match format {
-        CloudFormat::FrameFolder if path.join("x_bin").is_file() => {
-            return peek_frame_folder(path);
+    let header = match info(format).size {
+        SizeEstimate::CountFile { file, bytes_each } if path.join(file).is_file() => {
+            return peek_count_file(path, format, file, bytes_each);
         }
-        CloudFormat::FrameFolder | CloudFormat::SnapshotFolder | CloudFormat::MelpFolder => {
+        SizeEstimate::CountFile { .. } | SizeEstimate::FolderBytes => {
             return peek_folder_bytes(path, format);
         }
-        _ => {}
-    }
+        SizeEstimate::Collection => return peek_collection(path, format),
+        SizeEstimate::Header(count) => Some(count),
+        SizeEstimate::TextLines => None,
+    };
     let file_bytes = std::fs::metadata(path)
         .map_err(|e| Error::io(path, e))?
         .len();
@@ -67,20 +70,6 @@ pub fn peek_count(path: &Path) -> Result<CountHint> {
         .and_then(|f| f.take(HEAD_BYTES).read_to_end(&mut head))
         .map_err(|e| Error::io(path, e))?;
     let gzip = head.starts_with(&[0x1f, 0x8b]);
-    let header = match format {
-        CloudFormat::Ply => keyword_count(&head, b"element vertex "),
-        CloudFormat::VtkLegacy => keyword_count(&head, b"POINTS "),
-        CloudFormat::VtkXml => keyword_count(&head, b"NumberOfPoints=\""),
-        CloudFormat::Bgeo if gzip => {
-            let mut inner = Vec::with_capacity(64);
-            let _ = flate2::read::GzDecoder::new(head.as_slice())
-                .take(64)
-                .read_to_end(&mut inner);
-            bgeo_count(&inner)
-        }
-        CloudFormat::Bgeo => bgeo_count(&head),
-        _ => None,
-    };
     // Deflate expands at most ~1032:1; text needs at least "0 0 0\n" (6 bytes) a particle and
     // binary 12, so 3 bytes a particle bounds every uncompressed format.
     let cap = if gzip {
@@ -88,9 +77,9 @@ pub fn peek_count(path: &Path) -> Result<CountHint> {
     } else {
         file_bytes / 3
     };
-    let (particles, exact) = match header {
+    let (particles, exact) = match header.and_then(|count| count(&head)) {
         Some(n) => (n.min(cap), n <= cap),
-        None if format == CloudFormat::Csv => (text_lines_estimate(&head, file_bytes), false),
+        None if header.is_none() => (text_lines_estimate(&head, file_bytes), false),
         None => (file_bytes / 12, false),
     };
     Ok(CountHint {
@@ -98,30 +87,33 @@ pub fn peek_count(path: &Path) -> Result<CountHint> {
         particles,
         exact,
         file_bytes,
-        reads_whole_file: format != CloudFormat::Ply,
+        reads_whole_file: !matches!(info(format).reader, Reader::Streamed { .. }),
     })
 }
 
-/// The decimal number after the first `key` in `head` (PLY, VTK legacy and VTK XML headers).
-fn keyword_count(head: &[u8], key: &[u8]) -> Option<u64> {
-    let at = head.windows(key.len()).position(|w| w == key)? + key.len();
-    let digits: Vec<u8> = head[at..]
-        .iter()
-        .copied()
-        .skip_while(|c| *c == b' ')
-        .take_while(u8::is_ascii_digit)
-        .take(20)
-        .collect();
-    std::str::from_utf8(&digits).ok()?.parse().ok()
-}
-
-/// BGEO V5: `BgeoV`, version (i32 BE), then the point count (i32 BE).
-fn bgeo_count(b: &[u8]) -> Option<u64> {
-    if !b.starts_with(b"BgeoV") || b.len() < 13 {
-        return None;
+/// A collection: the sum of the hints of its first timestep's files (the largest file held
+/// whole, exact if every count is).
+fn peek_collection(path: &Path, format: CloudFormat) -> Result<CountHint> {
+    let Reader::Collection(files) = info(format).reader else {
+        return peek_folder_bytes(path, format);
+    };
+    let mut hint = CountHint {
+        format,
+        particles: 0,
+        exact: true,
+        file_bytes: 0,
+        reads_whole_file: false,
+    };
+    for f in files(path, 0)? {
+        let h = peek_count(&f)?;
+        hint.particles = hint.particles.saturating_add(h.particles);
+        hint.exact &= h.exact;
+        if h.reads_whole_file && h.file_bytes >= hint.file_bytes {
+            hint.file_bytes = h.file_bytes;
+            hint.reads_whole_file = true;
+        }
     }
-    let n = i32::from_be_bytes(b[9..13].try_into().ok()?);
-    u64::try_from(n).ok()
+    Ok(hint)
 }
 
 /// File size over the mean length of the data lines in `head` (the first line is the header).
@@ -159,8 +151,15 @@ fn peek_folder_bytes(dir: &Path, format: CloudFormat) -> Result<CountHint> {
     })
 }
 
-/// A frame folder: the count at the start of `x_bin` (little-endian u32), capped by its size.
-fn peek_frame_folder(dir: &Path) -> Result<CountHint> {
+/// A folder with a count file (a frame folder's `x_bin`): the little-endian `u32` at its
+/// start, capped by its size at `bytes_each` a particle; the folder's bytes are its `*_bin`
+/// files'.
+fn peek_count_file(
+    dir: &Path,
+    format: CloudFormat,
+    file: &str,
+    bytes_each: u64,
+) -> Result<CountHint> {
     let mut file_bytes = 0;
     for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
         let entry = entry.map_err(|e| Error::io(dir, e))?;
@@ -168,13 +167,13 @@ fn peek_frame_folder(dir: &Path) -> Result<CountHint> {
             file_bytes += entry.metadata().map(|m| m.len()).unwrap_or(0);
         }
     }
-    let x = dir.join("x_bin");
+    let x = dir.join(file);
     let x_bytes = std::fs::metadata(&x).map_err(|e| Error::io(&x, e))?.len();
     let mut head = Vec::with_capacity(4);
     std::fs::File::open(&x)
         .and_then(|f| f.take(4).read_to_end(&mut head))
         .map_err(|e| Error::io(&x, e))?;
-    let cap = x_bytes.saturating_sub(4) / 24;
+    let cap = x_bytes.saturating_sub(4) / bytes_each;
     let (particles, exact) = match head.get(..4) {
         Some(b) => {
             let n = u64::from(u32::from_le_bytes(b.try_into().expect("4 bytes")));
@@ -183,7 +182,7 @@ fn peek_frame_folder(dir: &Path) -> Result<CountHint> {
         None => (0, false),
     };
     Ok(CountHint {
-        format: CloudFormat::FrameFolder,
+        format,
         particles,
         exact,
         file_bytes,
@@ -197,22 +196,52 @@ mod tests {
 
     #[test]
     fn header_counts() {
-        let ply = b"ply\nformat ascii 1.0\nelement vertex 1234\nproperty float x\nend_header\n";
-        assert_eq!(keyword_count(ply, b"element vertex "), Some(1234));
+        use crate::io::{bgeo, ply, vtk, vtu};
+        let head = b"ply\nformat ascii 1.0\nelement vertex 1234\nproperty float x\nend_header\n";
+        assert_eq!(ply::header_count(head), Some(1234));
         assert_eq!(
-            keyword_count(b"<Piece NumberOfPoints=\"250\" ", b"NumberOfPoints=\""),
+            vtu::header_count(b"<Piece NumberOfPoints=\"250\" "),
             Some(250)
         );
-        assert_eq!(keyword_count(b"POINTS  77 float\n", b"POINTS "), Some(77));
-        assert_eq!(keyword_count(b"POINTS x", b"POINTS "), None);
-        let mut bgeo = b"BgeoV".to_vec();
-        bgeo.extend(5i32.to_be_bytes());
-        bgeo.extend(6859i32.to_be_bytes());
-        assert_eq!(bgeo_count(&bgeo), Some(6859));
-        bgeo[9..13].copy_from_slice(&(-1i32).to_be_bytes());
-        assert_eq!(bgeo_count(&bgeo), None);
+        assert_eq!(vtk::header_count(b"POINTS  77 float\n"), Some(77));
+        assert_eq!(vtk::header_count(b"POINTS x"), None);
+        let mut b = b"BgeoV".to_vec();
+        b.extend(5i32.to_be_bytes());
+        b.extend(6859i32.to_be_bytes());
+        assert_eq!(bgeo::header_count(&b), Some(6859));
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        std::io::Write::write_all(&mut gz, &b).unwrap();
+        assert_eq!(bgeo::header_count(&gz.finish().unwrap()), Some(6859));
+        b[9..13].copy_from_slice(&(-1i32).to_be_bytes());
+        assert_eq!(bgeo::header_count(&b), None);
         // 10 data lines of 10 bytes after an 10-byte header: a 1000-byte file holds ~100 lines.
         let text = b"x,y,z,abc\n".repeat(11);
         assert_eq!(text_lines_estimate(&text, 1000), 100);
+    }
+
+    /// A collection's estimate is its first timestep's files' (the XML's own size said
+    /// nothing: 250-particle files named twice were ~0 particles, not exact).
+    #[test]
+    fn a_collection_sums_its_first_timestep() {
+        let dir = std::env::temp_dir().join(format!("filmsplat-peek-pvd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+        std::fs::copy(data.join("fluid_250_particles.vtu"), dir.join("a.vtu")).unwrap();
+        let pvd = dir.join("run.pvd");
+        std::fs::write(
+            &pvd,
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\"><Collection>\n\
+             <DataSet timestep=\"0\" part=\"0\" file=\"a.vtu\"/>\n\
+             <DataSet timestep=\"0\" part=\"1\" file=\"a.vtu\"/>\n\
+             <DataSet timestep=\"1\" part=\"0\" file=\"a.vtu\"/>\n\
+             </Collection></VTKFile>\n",
+        )
+        .unwrap();
+        let hint = peek_count(&pvd).unwrap();
+        let vtu_bytes = std::fs::metadata(dir.join("a.vtu")).unwrap().len();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(hint.format, CloudFormat::Pvd);
+        assert_eq!((hint.particles, hint.exact), (500, true));
+        assert_eq!((hint.file_bytes, hint.reads_whole_file), (vtu_bytes, true));
     }
 }

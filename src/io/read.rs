@@ -1,38 +1,14 @@
 //! The one shell every particle reader shares: options checked once, the file's bytes (or a
-//! pipe's) read once, the format picked, then that format's parse function. The formats
-//! themselves (`ply`, `vtk`, `vtu`, `bgeo`, `csv`) only parse.
+//! pipe's) read once, the format picked, then that format's reader from its row of
+//! [`FORMATS`](super::formats::FORMATS). The formats themselves only parse.
 
 use std::path::Path;
 
+use super::formats::{Described, Reader, by_content, detect_format, info, sniffed_names};
 use super::part::{CloudPart, PartKind, film_of};
-use super::{
-    CloudFormat, ReadOptions, StoredAttribute, bgeo, by_content, csv, detect_format, format_error,
-    frame_folder, input, melp_folder, ply, pvd, read_file, snapshot, vtk, vtu,
-};
+use super::{CloudFormat, ReadOptions, format_error, input, read_file};
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
-
-/// A cloud and what its file stores.
-type Described = (PointCloud, Vec<StoredAttribute>);
-
-/// A format's parse of a whole file in memory: the cloud and what the file stores, or what is
-/// wrong (without the file's name, which the shell adds). Options are already checked.
-type Parse = fn(&[u8], &ReadOptions) -> std::result::Result<Described, String>;
-
-/// The parse of a format read whole from memory; `None` for folders and collections.
-fn parse_of(format: CloudFormat) -> Option<Parse> {
-    match format {
-        CloudFormat::VtkLegacy => Some(vtk::parse),
-        CloudFormat::VtkXml => Some(vtu::parse),
-        CloudFormat::Bgeo => Some(bgeo::parse),
-        CloudFormat::Csv => Some(csv::parse),
-        CloudFormat::Ply
-        | CloudFormat::FrameFolder
-        | CloudFormat::SnapshotFolder
-        | CloudFormat::MelpFolder
-        | CloudFormat::Pvd => None,
-    }
-}
 
 /// Reads a particle file (or frame folder) of any supported format (see [`detect_format`]).
 /// Standard input (`-`) and pipes are read once into memory (at most
@@ -116,37 +92,44 @@ pub fn read_bytes(
 /// # Errors
 /// As [`read_cloud`].
 pub fn read_parts(path: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
-    // A pipe or standard input is read once, by the single-set readers.
-    let format = if input::is_stream(path) {
-        CloudFormat::Ply
+    // A pipe or standard input is read once, as a single set.
+    let stream = input::is_stream(path);
+    let format = if stream {
+        None
     } else {
-        detect_format(path)?
+        Some(detect_format(path)?)
     };
-    match format {
-        CloudFormat::FrameFolder => frame_folder::read_parts(path, opts),
-        CloudFormat::SnapshotFolder => snapshot::read_parts(path, opts),
-        CloudFormat::MelpFolder => melp_folder::read_parts(path, opts),
-        CloudFormat::Pvd => read_timestep(path, 0, opts),
-        _ => {
-            let droplets =
-                format == CloudFormat::Ply && !input::is_stream(path) && ply::holds_droplets(path)?;
-            let (cloud, stored) = read_cloud_described(path, opts)?;
-            let mut part = CloudPart::film(path.display().to_string(), cloud, stored);
-            if droplets {
-                part.kind = PartKind::Droplets;
-            }
-            Ok(vec![part])
-        }
+    let droplets = match format.map(|f| info(f).reader) {
+        Some(Reader::Folder { parts, .. }) => return parts(path, opts),
+        Some(Reader::Collection(files)) => return collection_parts(files, path, 0, opts),
+        Some(Reader::Streamed { droplets, .. }) => droplets(path)?,
+        Some(Reader::Bytes(_)) | None => false,
+    };
+    let (cloud, stored) = read_cloud_described(path, opts)?;
+    let mut part = CloudPart::film(path.display().to_string(), cloud, stored);
+    if droplets {
+        part.kind = PartKind::Droplets;
     }
+    Ok(vec![part])
 }
 
 /// The parts of every data set of the `.pvd` collection's `k`-th timestep (0-based).
 ///
 /// # Errors
-/// As [`pvd::timestep_files`] and the data sets' readers.
+/// As [`super::pvd::timestep_files`] and the data sets' readers.
 pub fn read_timestep(path: &Path, k: usize, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
+    collection_parts(super::pvd::timestep_files, path, k, opts)
+}
+
+/// The parts of every file of a collection's `k`-th timestep, `files` listing them.
+fn collection_parts(
+    files: fn(&Path, usize) -> Result<Vec<std::path::PathBuf>>,
+    path: &Path,
+    k: usize,
+    opts: &ReadOptions,
+) -> Result<Vec<CloudPart>> {
     let mut parts = Vec::new();
-    for f in pvd::timestep_files(path, k)? {
+    for f in files(path, k)? {
         parts.extend(read_parts(&f, opts)?);
     }
     Ok(parts)
@@ -154,14 +137,15 @@ pub fn read_timestep(path: &Path, k: usize, opts: &ReadOptions) -> Result<Vec<Cl
 
 /// [`read_as`] with the options checked.
 fn read_checked(format: CloudFormat, path: &Path, opts: &ReadOptions) -> Result<Described> {
-    match format {
-        // PLY streams from the file in chunks instead of reading it whole.
-        CloudFormat::Ply => ply::read_file(path, opts),
-        CloudFormat::FrameFolder => frame_folder::read_checked(path, opts),
-        CloudFormat::SnapshotFolder | CloudFormat::MelpFolder | CloudFormat::Pvd => {
+    match info(format).reader {
+        Reader::Streamed { file, .. } => file(path, opts),
+        Reader::Folder {
+            film: Some(film), ..
+        } => film(path, opts),
+        Reader::Folder { film: None, .. } | Reader::Collection(_) => {
             Ok(film_of(read_parts(path, opts)?))
         }
-        f => parse_bytes(f, &read_file(path)?, path, opts),
+        Reader::Bytes(_) => parse_bytes(format, &read_file(path)?, path, opts),
     }
 }
 
@@ -172,11 +156,15 @@ fn parse_bytes(
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<Described> {
-    if format == CloudFormat::Ply {
-        return ply::parse_bytes(bytes, path, opts);
+    match info(format).reader {
+        Reader::Streamed { bytes: parse, .. } => parse(bytes, path, opts),
+        Reader::Bytes(parse) => {
+            parse(bytes, opts).map_err(|m| format_error(path, format.name(), m))
+        }
+        Reader::Folder { .. } | Reader::Collection(_) => {
+            Err(format_error(path, "input", "not a folder"))
+        }
     }
-    let parse = parse_of(format).ok_or_else(|| format_error(path, "input", "not a folder"))?;
-    parse(bytes, opts).map_err(|m| format_error(path, format.name(), m))
 }
 
 /// A stream's first bytes are acceptable if they (or the path's extension) name a format.
@@ -186,9 +174,10 @@ fn stream_head_ok(path: &Path) -> impl Fn(&[u8]) -> std::result::Result<(), Stri
             crate::Error::Format { message, .. } if message.starts_with("gzip-compressed") => {
                 message
             }
-            _ => "its first bytes are not PLY, VTK, VTK XML or BGEO (a pipe's format is told \
-                  from its content)"
-                .to_string(),
+            _ => format!(
+                "its first bytes are not {} (a pipe's format is told from its content)",
+                sniffed_names()
+            ),
         })
     }
 }

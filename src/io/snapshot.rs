@@ -44,6 +44,11 @@ const ALIASES: Aliases = Aliases {
     default_scale_to_nm: 1e9,
 };
 
+/// True if `dir` is a snapshot folder (it holds `x.bin`).
+pub(crate) fn is_snapshot_folder(dir: &Path) -> bool {
+    dir.join("x.bin").is_file()
+}
+
 /// Reads a snapshot folder's film and, if `3d/` holds any, its droplets.
 ///
 /// # Errors

@@ -18,6 +18,11 @@ use super::num::Num;
 use crate::error::Result;
 use crate::pointcloud::PointCloud;
 
+/// The point count of a VTK legacy header (`POINTS n`) in a file's first bytes, if any.
+pub(crate) fn header_count(head: &[u8]) -> Option<u64> {
+    super::num::keyword_count(head, b"POINTS ")
+}
+
 /// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
 /// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
 /// check the options and name the file in errors.

@@ -156,33 +156,15 @@ pub fn estimate_scene(desc: &SceneDesc, base: &Path, exr: bool) -> Result<Memory
     }
 }
 
-/// The machine's available memory, bytes: `MemAvailable` of `/proc/meminfo` (what can be
-/// allocated without swapping, counting reclaimable caches). `None` where that file is not
-/// readable (not Linux) or has no such line; then no default limit applies.
-pub fn available_memory() -> Option<u64> {
-    std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|t| parse_meminfo(&t))
-}
-
-/// `MemAvailable` of a `/proc/meminfo` text, bytes (the file gives kB, i.e. KiB).
-pub fn parse_meminfo(text: &str) -> Option<u64> {
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let mut words = line["MemAvailable:".len()..].split_whitespace();
-    let value: u64 = words.next()?.parse().ok()?;
-    match words.next() {
-        Some("kB") => value.checked_mul(1024),
-        None => Some(value),
-        Some(_) => None,
-    }
-}
+pub use crate::budget::{available_memory, parse_meminfo};
 
 /// Where a memory limit comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Limit {
     /// Set by the user (`--max-memory`), bytes.
     Explicit(u64),
-    /// The machine's available memory ([`available_memory`]), bytes.
+    /// The memory available to this process ([`available_memory`]: `MemAvailable`, lowered to
+    /// its cgroups' limits), bytes.
     Available(u64),
 }
 
@@ -213,8 +195,8 @@ impl Limit {
             ),
             Limit::Available(b) => format!(
                 "estimated peak memory {estimate} exceeds the machine's available memory {} \
-                 (MemAvailable, /proc/meminfo); render fewer particles or pixels, or set \
-                 --max-memory to try anyway",
+                 (MemAvailable, lowered to the cgroup's memory limit if any); render fewer \
+                 particles or pixels, or set --max-memory to try anyway",
                 human_bytes(b)
             ),
         })
@@ -255,12 +237,6 @@ mod tests {
 
     #[test]
     fn meminfo_parses_and_limits_refuse_what_exceeds_them() {
-        let text =
-            "MemTotal:       24000000 kB\nMemFree:        1000 kB\nMemAvailable:   2048 kB\n";
-        assert_eq!(parse_meminfo(text), Some(2 << 20));
-        assert_eq!(parse_meminfo("MemTotal: 5 kB\n"), None);
-        assert_eq!(parse_meminfo("MemAvailable: lots\n"), None);
-        assert_eq!(parse_meminfo("MemAvailable: 5 MB\n"), None);
         let e = MemoryEstimate::new(1_000_000, 64, 48, false, 0);
         assert!(Limit::Available(e.total()).check(&e).is_ok());
         let msg = Limit::Available(e.total() - 1).check(&e).unwrap_err();
@@ -271,7 +247,7 @@ mod tests {
         let msg = Limit::Explicit(1 << 20).check(&e).unwrap_err();
         assert!(msg.contains("exceeds --max-memory 1.0 MiB"), "{msg}");
         assert_eq!(Limit::new(Some(7)), Some(Limit::Explicit(7)));
-        // On Linux the default is this machine's MemAvailable.
+        // On Linux the default is the memory available to this process, the allowance's.
         if let Some(m) = available_memory() {
             assert!(m > 0);
             assert!(matches!(Limit::new(None), Some(Limit::Available(_))));

@@ -49,29 +49,43 @@ pub struct App {
     pub particles: usize,
 }
 
-/// `s` as a JSON string literal.
+/// `s` as a JSON string literal (serde_json's escaping: quote, backslash and control
+/// characters escaped, everything else as UTF-8).
 pub fn json_str(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out += "\\\"",
-            '\\' => out += "\\\\",
-            c if (c as u32) < 0x20 || c == '\u{2028}' || c == '\u{2029}' => {
-                out += &format!("\\u{:04x}", c as u32)
-            }
-            c => out.push(c),
-        }
-    }
-    out + "\""
+    serde_json::to_string(s).unwrap_or_default()
 }
 
-fn json_list(items: &[String]) -> String {
-    let v: Vec<String> = items.iter().map(|s| json_str(s)).collect();
-    format!("[{}]", v.join(","))
+/// The page's description of the scene (`/scene.json`), written by serde_json: frames,
+/// starting camera, choices and defaults.
+#[derive(serde::Serialize)]
+struct SceneJson<'a> {
+    title: &'a str,
+    frames: &'a [String],
+    camera: CameraJson,
+    /// Image size, pixels.
+    size: [usize; 2],
+    primitive: &'a str,
+    view: &'a str,
+    /// Exposure, EV.
+    exposure: f32,
+    views: Vec<String>,
+    primitives: &'a [&'a str],
+    presets: &'a [&'a str],
+    /// Film particles of frame 0.
+    particles: usize,
+    /// Largest picture side, pixels.
+    max_side: usize,
+    /// Largest saved image side, pixels.
+    max_save_side: usize,
 }
 
-fn json_vec3(v: [f32; 3]) -> String {
-    format!("[{:?},{:?},{:?}]", v[0], v[1], v[2])
+/// The starting camera: scene units, field of view in degrees.
+#[derive(serde::Serialize)]
+struct CameraJson {
+    position: [f32; 3],
+    look_at: [f32; 3],
+    up: [f32; 3],
+    fov: f32,
 }
 
 /// The page's description of the scene: frames, starting camera, choices and defaults.
@@ -84,26 +98,28 @@ fn scene_json(
 ) -> String {
     let mut views: Vec<String> = params::VIEWS.iter().map(|v| v.to_string()).collect();
     views.extend(attributes.iter().map(|a| format!("attribute:{a}")));
-    let strings = |v: &[&str]| json_list(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
-    format!(
-        "{{\"title\":{},\"frames\":{},\"camera\":{{\"position\":{},\"look_at\":{},\"up\":{},\"fov\":{:?}}},\
-         \"size\":[{},{}],\"primitive\":{},\"view\":{},\"exposure\":{:?},\"views\":{},\"primitives\":{},\
-         \"presets\":{},\"particles\":{particles},\"max_side\":{MAX_SIDE},\"max_save_side\":{MAX_SAVE_SIDE}}}",
-        json_str(title),
-        json_list(labels),
-        json_vec3(cam.position),
-        json_vec3(cam.look_at),
-        json_vec3(cam.up),
-        cam.fov,
-        d.size.0,
-        d.size.1,
-        json_str(&d.primitive),
-        json_str(&d.view),
-        d.exposure,
-        json_list(&views),
-        strings(&params::PRIMITIVES),
-        strings(&params::PRESETS),
-    )
+    let json = SceneJson {
+        title,
+        frames: labels,
+        camera: CameraJson {
+            position: cam.position,
+            look_at: cam.look_at,
+            up: cam.up,
+            fov: cam.fov,
+        },
+        size: [d.size.0, d.size.1],
+        primitive: &d.primitive,
+        view: &d.view,
+        exposure: d.exposure,
+        views,
+        primitives: &params::PRIMITIVES,
+        presets: &params::PRESETS,
+        particles,
+        max_side: MAX_SIDE,
+        max_save_side: MAX_SAVE_SIDE,
+    };
+    // Serialising plain strings, numbers and arrays cannot fail (non-finite floats become null).
+    serde_json::to_string(&json).unwrap_or_default()
 }
 
 impl App {
@@ -300,5 +316,49 @@ impl App {
             );
         }
         Ok(resp)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A title and labels needing every kind of escaping (quote, backslash, control
+    /// characters, non-ASCII, the JavaScript line separator) come back intact from the JSON.
+    #[test]
+    fn scene_json_escapes_and_parses_back() {
+        let title = "run \"7\" C:\\sims\\é\u{1}\n\t\u{2028}end";
+        let labels = vec!["0".to_string(), "frame\u{7f}\"1\"".to_string()];
+        let cam = ViewCamera {
+            position: [1.0, -2.5, 3.25],
+            look_at: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov: 35.0,
+        };
+        let d = Defaults {
+            size: (64, 36),
+            primitive: "disk".into(),
+            view: "shaded".into(),
+            exposure: -0.5,
+        };
+        let text = scene_json((title, &labels), &cam, &d, &["a\\b".into()], 12);
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["title"], title);
+        assert_eq!(v["frames"], serde_json::json!(labels));
+        assert_eq!(
+            v["camera"]["position"],
+            serde_json::json!([1.0, -2.5, 3.25])
+        );
+        assert_eq!(v["size"], serde_json::json!([64, 36]));
+        assert_eq!(v["exposure"], -0.5);
+        assert_eq!(v["particles"], 12);
+        assert_eq!(
+            v["views"].as_array().unwrap().last().unwrap(),
+            "attribute:a\\b"
+        );
+        assert_eq!(v["max_side"], MAX_SIDE);
+        let lit = json_str(title);
+        assert!(!lit.contains('\n') && !lit.contains('\u{1}'), "{lit}");
+        assert_eq!(serde_json::from_str::<String>(&lit).unwrap(), title);
     }
 }

@@ -2,7 +2,6 @@
 //! in the URL the server prints, compared in constant time.
 
 use crate::{Error, Result};
-use std::io::Read;
 
 /// A secret the client must present.
 #[derive(Clone, PartialEq, Eq)]
@@ -15,16 +14,20 @@ impl std::fmt::Debug for Token {
 }
 
 impl Token {
-    /// 16 bytes of `/dev/urandom` as 32 lower-case hex digits.
+    /// 16 bytes of the operating system's random source (`getrandom`: the `getrandom` system
+    /// call on Linux, `/dev/urandom` where that is missing, `ProcessPrng` on Windows, ...) as
+    /// 32 lower-case hex digits.
     ///
     /// # Errors
-    /// [`Error::Io`] if the random device cannot be read.
+    /// [`Error::Io`] if the operating system gives no random bytes.
     pub fn random() -> Result<Token> {
-        let path = "/dev/urandom";
         let mut bytes = [0u8; 16];
-        std::fs::File::open(path)
-            .and_then(|mut f| f.read_exact(&mut bytes))
-            .map_err(|e| Error::io(path, e))?;
+        getrandom::fill(&mut bytes).map_err(|e| {
+            Error::io(
+                "the operating system's random source",
+                std::io::Error::other(e.to_string()),
+            )
+        })?;
         Ok(Token(bytes.iter().map(|b| format!("{b:02x}")).collect()))
     }
 

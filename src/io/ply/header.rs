@@ -165,6 +165,12 @@ pub(super) fn show(text: &str) -> String {
     s
 }
 
+/// The vertex count of a PLY header (`element vertex n`) in a file's first bytes, if any
+/// (for size estimates before reading).
+pub(crate) fn header_count(head: &[u8]) -> Option<u64> {
+    crate::io::num::keyword_count(head, b"element vertex ")
+}
+
 /// Parses the header, leaving `src` at the first body byte.
 pub(super) fn parse<R: Read>(src: &mut Source<R>) -> Result<Header, Fail> {
     let mut encoding = None;

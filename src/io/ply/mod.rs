@@ -17,6 +17,7 @@
 mod ascii;
 mod binary;
 mod header;
+pub(crate) use header::header_count;
 mod source;
 
 use std::fs::File;

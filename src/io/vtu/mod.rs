@@ -27,6 +27,11 @@ use data::{check_total_work, decode};
 /// Largest ratio of inflated to deflated bytes zlib can reach (with a margin).
 const MAX_ZLIB_RATIO: u64 = 1100;
 
+/// The point count of a VTK XML piece (`NumberOfPoints="n"`) in a file's first bytes, if any.
+pub(crate) fn header_count(head: &[u8]) -> Option<u64> {
+    super::num::keyword_count(head, b"NumberOfPoints=\"")
+}
+
 /// Parses a whole file's bytes into a [`PointCloud`] and what the file stores (see the module
 /// docs); [`crate::io::read_cloud`] and [`crate::io::read_bytes`] are its entry points, which
 /// check the options and name the file in errors.
