@@ -16,8 +16,11 @@ pub mod camera_path;
 pub mod compare;
 pub mod config;
 mod droplets;
+mod environment_config;
 mod foam;
 pub mod framing;
+pub mod input_config;
+pub mod lights_props;
 mod liquid;
 mod liquid_origin;
 mod load;
@@ -84,8 +87,13 @@ pub fn prepare_staged(
     cloud: Option<PointCloud>,
 ) -> Result<Prepared> {
     // Resolve: the typed, checked configuration, before anything is read.
-    let config = desc.resolve(base)?;
+    let config = desc.resolve_for(base, cloud.is_some())?;
     let mut notes = Vec::new();
+    // The files beside the particles (props' meshes, the environment map), read before them.
+    let props = studio::props(&config.props)?;
+    // The studio stays where the default camera's photographer set it (not turned with this
+    // camera), so the viewer's orbits and the same camera given as scene lines light alike.
+    let environment = build::environment(&config.environment, Studio::default().view)?;
 
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
@@ -111,10 +119,7 @@ pub fn prepare_staged(
     let (width, height) = (config.settings.width, config.settings.height);
     let aspect = scene_aspect(config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
-    // The studio stays where the default camera's photographer set it (not turned with this
-    // camera), so the viewer's orbits and the same camera given as scene lines light alike.
-    let environment = build::environment(&config.environment, Studio::default().view)?;
-    let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
+    let mut staging = studio::staging(&config.lights, props, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     // Droplets smaller than a pixel show their share of it (see render's camera ray).
     droplets.set_footprints(|c| camera.pixel_footprint(c, height))?;
@@ -232,7 +237,7 @@ fn load(
     let repairing = desc.input.repair == Some(true);
     let (mut films, drops) = load::split(parts, repairing, notes)?;
     foam::merge_walls(&mut films, notes);
-    let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, &inputs, notes)?;
+    let (kept, liquid) = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
     if films.is_empty() && droplets.is_empty() && liquid.is_empty() {
         return Err(load::nothing_loaded(desc, base));
