@@ -89,10 +89,7 @@ fn check_memory(
     let estimate = match clouds {
         Some(c) => {
             let n: usize = c.iter().map(|c| c.cloud.len()).sum();
-            let (w, h) = (
-                desc.render.width.unwrap_or(960),
-                desc.render.height.unwrap_or(540),
-            );
+            let (w, h) = filmsplat::pipeline::config::image_size(desc);
             MemoryEstimate::new(n as u64, w, h, false, 0)
         }
         None => match estimate_scene(desc, base, false) {

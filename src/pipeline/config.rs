@@ -206,8 +206,15 @@ impl SceneDesc {
 fn optics(d: &SceneDesc) -> Result<(f32, Primitive)> {
     let ior = d.film.ior.unwrap_or(1.33);
     check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
-    let primitive = parse_enum(&d.film.primitive, Primitive::Disk, "film.primitive")?;
-    Ok((ior, primitive))
+    Ok((ior, primitive(d)?))
+}
+
+/// `film.primitive` (default: [`Primitive::default`]).
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key for an unknown name.
+pub fn primitive(d: &SceneDesc) -> Result<Primitive> {
+    parse_enum(&d.film.primitive, Primitive::default(), "film.primitive")
 }
 
 /// `[film]` with its defaults: checks the default thickness and the thickness and radius
@@ -236,9 +243,9 @@ fn film(d: &SceneDesc, ior: f32, primitive: Primitive, preset: Preset) -> Result
         default_thickness_nm,
         radius_scale,
         // First-order detail on disks unless the scene or the preset turns it off.
-        first_order_detail: primitive == Primitive::Disk
+        first_order_detail: primitive.takes_first_order_detail()
             && f.curvature.unwrap_or(preset.first_order_detail()),
-        fit_radii: primitive != Primitive::Sphere && f.fit_radii != Some(false),
+        fit_radii: primitive.fits_radii() && f.fit_radii != Some(false),
         blend: f.blend != Some(false),
     })
 }

@@ -7,7 +7,6 @@ use super::droplets::read_input_parts;
 use super::input_config::{read_options, sample_kind, sample_params};
 use super::prepared::Note;
 pub use super::sample_check::check_sample_params;
-use crate::geometry::Primitive;
 use crate::io::{CloudPart, PartKind, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
@@ -160,10 +159,10 @@ impl Films {
     /// disks overlap into a closed film, so spheres drawn as particles get half of that, and
     /// each particle stays visible as its own ball.
     pub fn radii(&self, film: &FilmConfig) -> Vec<f32> {
-        let estimated_scale = if !self.had_radius && film.primitive == Primitive::Sphere {
-            0.5
-        } else {
+        let estimated_scale = if self.had_radius {
             1.0
+        } else {
+            film.primitive.estimated_radius_scale()
         };
         let scale = film.radius_scale * estimated_scale;
         self.cloud

@@ -97,11 +97,11 @@ fn scene_json(
         cam.fov,
         d.size.0,
         d.size.1,
-        json_str(&d.primitive),
+        json_str(d.primitive.name()),
         json_str(&d.view),
         d.exposure,
         json_list(&views),
-        strings(&params::PRIMITIVES),
+        strings(&params::PRIMITIVES.map(|p| p.name())),
         strings(&params::PRESETS),
     )
 }
