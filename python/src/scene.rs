@@ -227,11 +227,11 @@ impl NativeScene {
         p.scene.camera = camera(&desc, &p.framing, aspect).map_err(to_py)?;
         // The light turns with the camera (back to the scene's without an orbit).
         p.turn_light(turn as f32);
-        let view = view.unwrap_or(p.view);
+        let view = view.unwrap_or_else(|| p.view.clone());
         if view != View::Shaded {
             let (w, h) = (settings.width, settings.height);
             let v = py
-                .detach(|| render_view(&p.scene, view, w, h))
+                .detach(|| render_view(&p.scene, view.clone(), w, h))
                 .map_err(to_py)?;
             return Ok(Image::view(v, &view.to_string()));
         }

@@ -205,7 +205,7 @@ pub(super) fn render_prepared(
             Target::Pixels => Some(pipeline::view_srgb8(&view)?),
         };
         if !a.quiet {
-            let (n, v, to) = (prepared.particles, prepared.view, target.label());
+            let (n, v, to) = (prepared.particles, &prepared.view, target.label());
             let _ = writeln!(out, "{n} particles: {v} view; wrote {to}");
         }
         return Ok(pixels);

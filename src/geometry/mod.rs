@@ -43,7 +43,6 @@ mod spheres;
 mod tree;
 mod wide;
 
-
 use glam::Vec3;
 
 pub use aabb::Aabb;

@@ -347,7 +347,10 @@ mod tests {
         );
         for p in Primitive::ALL {
             let choice = GeometryChoice::Particles(p);
-            assert_eq!(choice.to_string().parse::<GeometryChoice>().unwrap(), choice);
+            assert_eq!(
+                choice.to_string().parse::<GeometryChoice>().unwrap(),
+                choice
+            );
         }
         assert_eq!(
             "mesh:a/b.obj".parse::<GeometryChoice>().unwrap(),

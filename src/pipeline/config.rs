@@ -174,8 +174,8 @@ impl SceneDesc {
             shading,
         )?;
         let film = film(self, ior, primitive, preset)?;
-        let attribute = match view {
-            View::Attribute => Some(attribute_view(self)?),
+        let attribute = match &view {
+            View::Attribute(name) => Some(attribute_view(self, name)?),
             _ => None,
         };
         Ok(RenderConfig {
@@ -361,8 +361,7 @@ fn wavelengths(n: usize, shading: ShadingMode) -> Result<usize> {
 }
 
 /// The NAME and colour-bar range of an `attribute:NAME` view.
-fn attribute_view(d: &SceneDesc) -> Result<AttributeView> {
-    let view = d.render.view.as_deref().unwrap_or_default();
+fn attribute_view(d: &SceneDesc, name: &str) -> Result<AttributeView> {
     let range = match d.render.view_range {
         Some([a, b]) if a.is_finite() && b.is_finite() && a < b => Some((a, b)),
         Some([a, b]) => {
@@ -373,7 +372,7 @@ fn attribute_view(d: &SceneDesc) -> Result<AttributeView> {
         None => None,
     };
     Ok(AttributeView {
-        name: view.strip_prefix("attribute:").unwrap_or(view).to_string(),
+        name: name.to_string(),
         range,
     })
 }

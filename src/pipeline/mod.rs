@@ -117,7 +117,7 @@ pub fn prepare_staged(
     let tol = Tolerances::of(bounds, config.film.primitive, &radii);
     let framing = build::framing(&geometry, &films.cloud, &radii, &drops, bounds);
     let (width, height) = (config.settings.width, config.settings.height);
-    let aspect = scene_aspect(config.view, width, height);
+    let aspect = scene_aspect(&config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
     let mut staging = studio::staging(&config.lights, props, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();

@@ -208,9 +208,9 @@ pub fn render(built: &Built, job: &Job, cancel: Arc<AtomicBool>) -> Result<Pictu
         camera: camera_desc(&built.desc, &job.camera),
         ..SceneDesc::default()
     };
-    let aspect = pipeline::scene_aspect(view, job.width, job.height);
+    let aspect = pipeline::scene_aspect(&view, job.width, job.height);
     p.scene.camera = pipeline::camera(&desc, &p.framing, aspect)?;
-    p.view = view;
+    p.view = view.clone();
     p.settings = settings;
     let t = Instant::now();
     let rgb8 = if let Some(v) = pipeline::render_view(&p)? {
