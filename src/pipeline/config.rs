@@ -11,12 +11,11 @@
 //! in after loading, from values checked here.
 
 pub use super::environment_config::EnvironmentConfig;
+pub use super::image_size::image_size;
 use crate::geometry::Primitive;
 use crate::image::{Grade, ToneMap};
 use crate::optics::check_film_params;
-use crate::render::{
-    DEFAULT_HEIGHT, DEFAULT_WIDTH, MAX_SPP, Preset, RenderSettings, ShadingMode, View,
-};
+use crate::render::{MAX_SPP, Preset, RenderSettings, ShadingMode, View};
 use crate::scene::{CameraDesc, OutputDesc, SceneDesc};
 use crate::spectrum::WavelengthStrategy;
 
@@ -248,16 +247,6 @@ fn film(d: &SceneDesc, ior: f32, primitive: Primitive, preset: Preset) -> Result
         fit_radii: primitive.fits_radii() && f.fit_radii != Some(false),
         blend: f.blend != Some(false),
     })
-}
-
-/// The image size a scene renders at, (width, height) pixels: `[render]`'s,
-/// [`DEFAULT_WIDTH`]×[`DEFAULT_HEIGHT`] where unset (as [`settings`] decides it; checked
-/// there). Every way in (render, info, the viewer, Python) takes its default size from here.
-pub fn image_size(d: &SceneDesc) -> (usize, usize) {
-    (
-        d.render.width.unwrap_or(DEFAULT_WIDTH),
-        d.render.height.unwrap_or(DEFAULT_HEIGHT),
-    )
 }
 
 /// `[render]`'s sampling settings, the preset filling what is unset; checks the image size

@@ -3,7 +3,7 @@
 //! themselves are read (and their contents checked) when the particles are loaded
 //! ([`super::load`]).
 
-use super::liquid::{self, LiquidMode};
+use super::liquid_mode::{self, LiquidMode};
 use super::melp_sets::MelpSet;
 use super::sample_check::check_sample_params;
 use crate::io::ReadOptions;
@@ -28,7 +28,7 @@ pub struct InputConfig {
 /// # Errors
 /// [`Error::Invalid`] naming the key, with the loader's own message.
 pub fn input(desc: &SceneDesc, given_cloud: bool) -> Result<InputConfig> {
-    let liquid = liquid::mode(desc)?;
+    let liquid = liquid_mode::mode(desc)?;
     if !given_cloud {
         particles(desc)?;
     }

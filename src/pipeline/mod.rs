@@ -19,9 +19,11 @@ mod droplets;
 mod environment_config;
 mod foam;
 pub mod framing;
+mod image_size;
 pub mod input_config;
 pub mod lights_props;
 mod liquid;
+mod liquid_mode;
 mod liquid_origin;
 mod load;
 mod melp_sets;
@@ -89,10 +91,9 @@ pub fn prepare_staged(
     // Resolve: the typed, checked configuration, before anything is read.
     let config = desc.resolve_for(base, cloud.is_some())?;
     let mut notes = Vec::new();
-    // The files beside the particles (props' meshes, the environment map), read before them.
+    // Read before the particles: props' meshes, the environment map (the studio stays where
+    // the default camera's photographer set it: orbits and scene-line cameras light alike).
     let props = studio::props(&config.props)?;
-    // The studio stays where the default camera's photographer set it (not turned with this
-    // camera), so the viewer's orbits and the same camera given as scene lines light alike.
     let environment = build::environment(&config.environment, Studio::default().view)?;
 
     // Load and estimate: the particles, as completed films and droplets.
