@@ -55,15 +55,9 @@ pub(super) fn environment(e: &EnvironmentDesc, base: &Path) -> Result<Environmen
             let path = e.map.as_ref().ok_or_else(|| {
                 Error::invalid("environment.kind = \"map\" needs environment.map")
             })?;
-            let rotation_deg = e.rotation.unwrap_or(0.0);
-            if !rotation_deg.is_finite() {
-                return Err(Error::invalid(format!(
-                    "environment.rotation must be finite degrees, got {rotation_deg}"
-                )));
-            }
             Ok(EnvironmentConfig::Map {
                 path: base.join(path),
-                rotation_deg,
+                rotation_deg: e.rotation.unwrap_or(0.0),
                 intensity,
             })
         }
