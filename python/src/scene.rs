@@ -132,6 +132,9 @@ impl NativeScene {
         clouds: Option<Vec<PyRef<'_, Cloud>>>,
     ) -> PyResult<Self> {
         let desc = SceneDesc::from_toml(toml, name).map_err(to_py)?;
+        // The whole configuration before the memory estimate reads a header or clouds merge.
+        desc.resolve_for(&base, clouds.is_some())
+            .map_err(|e| to_py(desc.locate(e)))?;
         check_memory(&desc, &base, clouds.as_deref())?;
         let cloud = match clouds {
             Some(c) if c.is_empty() => return Err(invalid("Scene: no clouds given")),
