@@ -1,7 +1,7 @@
 //! `[input]` (and `film.thickness_unit`), checked without reading a particle: part of
 //! [`super::RenderConfig`], so a bad input key is refused before any file is read. The files
 //! themselves are read (and their contents checked) when the particles are loaded
-//! ([`super::load`]).
+//! (`pipeline/load.rs`).
 
 use super::liquid_mode::{self, LiquidMode};
 use super::melp_sets::MelpSet;

@@ -1,7 +1,7 @@
 //! `[[light]]` and `[[prop]]` entries, checked: part of [`super::RenderConfig`], so a bad entry
 //! is refused before any particle is read. Pure (reads no file); what depends on the loaded
 //! scene (a light facing the scene's centre, a mesh prop's triangles, the props' epsilon) is
-//! filled in when the scene is staged ([`super::studio`]). Errors name the entry, its line and
+//! filled in when the scene is staged (`pipeline/studio.rs`). Errors name the entry, its line and
 //! the key.
 
 use crate::geometry::Shape;
