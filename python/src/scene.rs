@@ -88,10 +88,7 @@ fn check_memory(
     let estimate = match clouds {
         Some(c) => {
             let n: usize = c.iter().map(|c| c.cloud.len()).sum();
-            let (w, h) = (
-                desc.render.width.unwrap_or(960),
-                desc.render.height.unwrap_or(540),
-            );
+            let (w, h) = filmsplat::pipeline::config::image_size(desc);
             MemoryEstimate::new(n as u64, w, h, false, 0)
         }
         None => match estimate_scene(desc, base, false) {
@@ -134,6 +131,9 @@ impl NativeScene {
         clouds: Option<Vec<PyRef<'_, Cloud>>>,
     ) -> PyResult<Self> {
         let desc = SceneDesc::from_toml(toml, name).map_err(to_py)?;
+        // The whole configuration before the memory estimate reads a header or clouds merge.
+        desc.resolve_for(&base, clouds.is_some())
+            .map_err(|e| to_py(desc.locate(e)))?;
         check_memory(&desc, &base, clouds.as_deref())?;
         let cloud = match clouds {
             Some(c) if c.is_empty() => return Err(invalid("Scene: no clouds given")),
@@ -220,18 +220,18 @@ impl NativeScene {
             camera: camera(&desc, &p.framing, aspect).map_err(to_py)?,
             // The light turns with the camera (the environment as prepared without an orbit).
             turn_deg: turn as f32,
-            view: view.unwrap_or(p.shot.view),
+            view: view.unwrap_or_else(|| p.shot.view.clone()),
             settings,
             ..p.shot.clone()
         };
         if shot.view != View::Shaded {
-            let (w, h, view) = (shot.settings.width, shot.settings.height, shot.view);
+            let (w, h, view) = (shot.settings.width, shot.settings.height, shot.view.clone());
             let world = WorldRef {
                 camera: &shot.camera,
                 ..(&p.scene).into()
             };
             let v = py
-                .detach(|| render_view_of(world, view, w, h, None))
+                .detach(|| render_view_of(world, view.clone(), w, h, None))
                 .map_err(to_py)?;
             return Ok(Image::view(v, &view.to_string()));
         }

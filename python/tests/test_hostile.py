@@ -54,3 +54,19 @@ def test_spp_has_one_range_for_every_way_in(shell_scene, shell_cloud):
     with pytest.raises(ValueError, match="render.spp must be between 1 and 65536"):
         filmsplat.Scene(shell_cloud, width=8, height=6, spp=2**32 - 1)
     assert shell_scene.render(size=(8, 6), spp=1) is not None
+
+
+def test_a_bad_light_is_refused_before_the_input_is_read(tmp_path):
+    # The input promises four billion vertices and holds none: an error about the light
+    # proves the scene was checked before the file was read (issue #31, item 1).
+    (tmp_path / "huge.ply").write_text(
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+        "property float x\nproperty float y\nproperty float z\nend_header\n"
+    )
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        '[input]\ncloud = "huge.ply"\n[[light]]\nshape = "rect"\n'
+        "position = [0, 2, 0]\nsize = [1, 1]\n"
+    )
+    with pytest.raises(ValueError, match=r"light 1 \(line 4\): needs radiance"):
+        filmsplat.Scene.from_file(scene)

@@ -7,6 +7,7 @@ use crate::pipeline::read_input_parts;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::estimate::estimate_radii;
 use crate::pointcloud::{EstimateOptions, compute_stats};
+use crate::render::{DEFAULT_HEIGHT, DEFAULT_WIDTH};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -50,7 +51,7 @@ pub fn run(a: &InfoArgs, out: &mut dyn Write) -> Result<()> {
         describe(out, part).map_err(io)?;
     }
     let total: usize = parts.iter().map(|p| p.cloud.len()).sum();
-    let (w, h) = a.size.unwrap_or((960, 540));
+    let (w, h) = a.size.unwrap_or((DEFAULT_WIDTH, DEFAULT_HEIGHT));
     let file = if hint.reads_whole_file {
         hint.file_bytes
     } else {

@@ -60,11 +60,14 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
     result
 }
 
-/// Checks everything that can be checked before loading: output names, the estimated peak
-/// memory against --max-memory or the machine's available memory, the output folders
-/// (created); then prepares the scene, reporting its stages as `progress` says.
+/// Checks everything that can be checked before loading: the scene and flags (resolved),
+/// output names, the estimated peak memory against --max-memory or the machine's available
+/// memory, the output folders (created); then prepares the scene, reporting its stages as
+/// `progress` says.
 pub(super) fn prepare_frame(a: &RenderArgs, progress: Progress) -> Result<Prepared> {
     let (desc, base) = scene_from_args(a)?;
+    // The whole configuration first: the memory estimate below reads the inputs' headers.
+    desc.resolve(&base)?;
     let output = output_path(a, &desc, &base);
     // A movie's frame writes no file of its own (`--exr` is refused with a movie).
     let outputs: Vec<&PathBuf> = if a.in_memory {
@@ -209,7 +212,7 @@ pub(super) fn render_prepared(
             Target::Pixels => Some(pipeline::view_srgb8(&view)?),
         };
         if !a.quiet {
-            let (n, v, to) = (prepared.particles, shot.view, target.label());
+            let (n, v, to) = (prepared.particles, &shot.view, target.label());
             let _ = writeln!(out, "{n} particles: {v} view; wrote {to}");
         }
         return Ok(pixels);

@@ -26,6 +26,9 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let movie = super::movie::movie_of(a, output)?;
     let out_pattern = output.to_string_lossy().into_owned();
     let still = check_patterns(a, output, movie.is_some())?;
+    // A mistake in the scene or flags is refused before any frame is read.
+    let (first, first_base) = scene_from_args(&with_frame(a, frames[0]))?;
+    first.resolve(&first_base).map_err(|e| first.locate(e))?;
     let opts = SequenceOptions {
         frames: frames.to_vec(),
         shard: a.shard,
@@ -64,6 +67,15 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     crate::pipeline::sequence::render_sequence(&job, &opts, out, &mut std::io::stderr())?;
     let writer = job.movie.take().expect("set above").into_inner();
     m.finish(writer, opts.quiet, out)
+}
+
+/// `a` for frame `f` alone (its inputs' patterns expanded; outputs as given).
+fn with_frame(a: &RenderArgs, f: u64) -> RenderArgs {
+    RenderArgs {
+        frame: Some(f),
+        frames: None,
+        ..a.clone()
+    }
 }
 
 /// Checks the sequence's patterns: -o names images with a frame pattern or a movie; an input

@@ -34,6 +34,7 @@ mod liquid;
 pub mod mesh;
 mod mls;
 mod particles;
+mod primitive_kind;
 pub mod primitives;
 mod ray4;
 pub mod shape;
@@ -41,9 +42,6 @@ mod sphere4;
 mod spheres;
 mod tree;
 mod wide;
-
-use std::fmt;
-use std::str::FromStr;
 
 use glam::Vec3;
 
@@ -57,6 +55,7 @@ pub use hit::SurfaceHit;
 pub use liquid::{KERNEL_SPACINGS, LiquidHit, LiquidPoint, LiquidSurface, VOLUME_RADIUS};
 pub use mesh::{MeshGeometry, MeshSides};
 pub use mls::{MlsParams, MlsPoint, MlsSurface};
+pub use primitive_kind::Primitive;
 pub use shape::{Mesh, Shape, ShapeHit, ShapeSample, frame};
 pub use spheres::SphereGeometry;
 pub use tree::Bvh;
@@ -94,57 +93,9 @@ impl Ray {
     }
 }
 
-/// How particles are drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Primitive {
-    /// An oriented disk (surfel) through the particle centre, perpendicular to its normal.
-    Disk,
-    /// A sphere around the particle centre (normals are not needed).
-    Sphere,
-    /// The smooth moving-least-squares surface the particles sample (see [`MlsSurface`]);
-    /// needs normals.
-    Mls,
-}
-
-impl FromStr for Primitive {
-    type Err = crate::Error;
-
-    /// Parses `"disk"`, `"sphere"` or `"mls"` (case-insensitive).
-    fn from_str(s: &str) -> crate::Result<Self> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "disk" => Ok(Primitive::Disk),
-            "sphere" => Ok(Primitive::Sphere),
-            "mls" => Ok(Primitive::Mls),
-            _ => Err(crate::Error::invalid(format!(
-                "unknown primitive '{s}' (expected 'disk', 'sphere' or 'mls')"
-            ))),
-        }
-    }
-}
-
-impl fmt::Display for Primitive {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Primitive::Disk => "disk",
-            Primitive::Sphere => "sphere",
-            Primitive::Mls => "mls",
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn primitive_parses_and_prints() {
-        for p in [Primitive::Disk, Primitive::Sphere, Primitive::Mls] {
-            assert_eq!(p.to_string().parse::<Primitive>().unwrap(), p);
-        }
-        assert_eq!("Sphere".parse::<Primitive>().unwrap(), Primitive::Sphere);
-        assert_eq!(" MLS ".parse::<Primitive>().unwrap(), Primitive::Mls);
-        assert!("cube".parse::<Primitive>().is_err());
-    }
 
     #[test]
     fn ray_new_normalises() {

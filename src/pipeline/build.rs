@@ -5,7 +5,7 @@
 use super::config::{AttributeView, EnvironmentConfig, FilmConfig};
 use super::framing::Framing;
 use crate::geometry::{
-    Aabb, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry,
+    Aabb, DiskGeometry, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry,
 };
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::clip::EdgeClip;
@@ -96,41 +96,49 @@ pub(super) fn film_geometry(
     if cloud.is_empty() {
         return Ok(SphereGeometry::build(&[], &[], &[], &[])?.into());
     }
-    // The detail first: the neighbour table (96 B a particle) is dropped here, used or not,
-    // before any tree's build allocates, so the two never add up at the peak.
-    let detail = (film.primitive == Primitive::Disk && film.first_order_detail)
-        .then(|| detail(&cloud.positions, normals, thickness, radii, neighbours));
-    if film.primitive == Primitive::Mls {
-        // The surface has no cut: an edge particle's support stays within its cut's offset
-        // (half a spacing) instead of the radius that covers its cell up to the cut.
-        let cut: Vec<f32>;
-        let radii = if clips.is_empty() {
-            radii
-        } else {
-            cut = radii
-                .iter()
-                .zip(clips)
-                .map(|(r, c)| r.min(c[0].w).min(c[1].w))
-                .collect();
-            &cut
-        };
-        return Ok(MlsSurface::build(&cloud.positions, normals, radii, thickness)?.into());
+    let (positions, n) = (&cloud.positions, normals);
+    match film.primitive {
+        Primitive::Disk => {
+            // The detail first: the neighbour table (96 B a particle) is dropped here, used or
+            // not, before the tree's build allocates, so the two never add up at the peak.
+            let detail = film
+                .first_order_detail
+                .then(|| detail(positions, n, thickness, radii, neighbours));
+            let mut disks = DiskGeometry::build(positions, n, radii, thickness)?;
+            if let Some((curvature, gradient)) = detail {
+                disks.set_curvature(&curvature)?;
+                disks.set_thickness_gradient(&gradient)?;
+            }
+            if !film.blend {
+                disks.set_layer_blend(LayerBlend::NONE);
+            }
+            if !clips.is_empty() {
+                disks.set_edge_clips(clips)?;
+            }
+            Ok(disks.into())
+        }
+        Primitive::Sphere => {
+            drop(neighbours);
+            Ok(SphereGeometry::build(positions, n, radii, thickness)?.into())
+        }
+        Primitive::Mls => {
+            drop(neighbours);
+            // The surface has no cut: an edge particle's support stays within its cut's offset
+            // (half a spacing) instead of the radius that covers its cell up to the cut.
+            let cut: Vec<f32>;
+            let radii = if clips.is_empty() {
+                radii
+            } else {
+                cut = radii
+                    .iter()
+                    .zip(clips)
+                    .map(|(r, c)| r.min(c[0].w).min(c[1].w))
+                    .collect();
+                &cut
+            };
+            Ok(MlsSurface::build(positions, n, radii, thickness)?.into())
+        }
     }
-    let mut splats =
-        FilmGeometry::particles(film.primitive, &cloud.positions, normals, radii, thickness)?;
-    if let FilmGeometry::Disks(disks) = &mut splats {
-        if let Some((curvature, gradient)) = detail {
-            disks.set_curvature(&curvature)?;
-            disks.set_thickness_gradient(&gradient)?;
-        }
-        if !film.blend {
-            disks.set_layer_blend(LayerBlend::NONE);
-        }
-        if !clips.is_empty() {
-            disks.set_edge_clips(clips)?;
-        }
-    }
-    Ok(splats)
 }
 
 /// First-order splats: normals tilt with the curvature, thickness follows its gradient (limited
@@ -175,12 +183,7 @@ impl Tolerances {
         } else {
             *sorted.select_nth_unstable_by(mid, f32::total_cmp).1
         };
-        let layer_skip = match primitive {
-            Primitive::Disk => 0.5 * median_radius,
-            Primitive::Sphere => epsilon,
-            // An MLS crossing is refined to 1e-3 radii: a twentieth of a radius clears it.
-            Primitive::Mls => 0.05 * median_radius,
-        };
+        let layer_skip = primitive.layer_skip(median_radius, epsilon);
         Tolerances {
             epsilon,
             layer_skip,

@@ -22,12 +22,8 @@ use crate::{Error, Result};
 /// A geometry to compare.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GeometryChoice {
-    /// Particles as blended oriented disks.
-    Disk,
-    /// Particles as spheres.
-    Sphere,
-    /// A moving-least-squares surface through the particles (when this build has it).
-    Mls,
+    /// The particles drawn as a primitive (blended disks, spheres, the MLS surface).
+    Particles(Primitive),
     /// A triangle mesh read from a PLY or OBJ file.
     Mesh(PathBuf),
     /// A mesh reconstructed from the cloud in-process (cargo feature `reconstruct`).
@@ -45,10 +41,11 @@ impl FromStr for GeometryChoice {
             }
             return Ok(GeometryChoice::Mesh(PathBuf::from(path)));
         }
-        match s.to_ascii_lowercase().as_str() {
-            "disk" => Ok(GeometryChoice::Disk),
-            "sphere" => Ok(GeometryChoice::Sphere),
-            "mls" => Ok(GeometryChoice::Mls),
+        let name = s.to_ascii_lowercase();
+        if let Some(p) = Primitive::ALL.into_iter().find(|p| p.name() == name) {
+            return Ok(GeometryChoice::Particles(p));
+        }
+        match name.as_str() {
             "reconstructed" => Ok(GeometryChoice::Reconstructed),
             _ => Err(Error::invalid(format!(
                 "unknown geometry '{s}' (expected disk, sphere, mls, mesh:FILE or reconstructed)"
@@ -60,9 +57,7 @@ impl FromStr for GeometryChoice {
 impl fmt::Display for GeometryChoice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            GeometryChoice::Disk => f.write_str("disk"),
-            GeometryChoice::Sphere => f.write_str("sphere"),
-            GeometryChoice::Mls => f.write_str("mls"),
+            GeometryChoice::Particles(p) => f.write_str(p.name()),
             GeometryChoice::Mesh(p) => write!(
                 f,
                 "mesh {}",
@@ -137,19 +132,12 @@ pub fn prepare_variant(
     progress: bool,
 ) -> Result<Variant> {
     let mut d = desc.clone();
+    // A mesh takes the scene as it is prepared with disks.
     let primitive = match choice {
-        GeometryChoice::Sphere => "sphere",
-        GeometryChoice::Mls => {
-            if "mls".parse::<Primitive>().is_err() {
-                return Err(Error::invalid(
-                    "geometry 'mls' is not available in this build of filmsplat",
-                ));
-            }
-            "mls"
-        }
-        _ => "disk",
+        GeometryChoice::Particles(p) => *p,
+        GeometryChoice::Mesh(_) | GeometryChoice::Reconstructed => Primitive::Disk,
     };
-    d.film.primitive = Some(primitive.to_string());
+    d.film.primitive = Some(primitive.name().to_string());
     let mut prepared = prepare(&d, base, progress)?;
     let (meshing_time, mesh_time) = match choice {
         GeometryChoice::Mesh(path) => {
@@ -355,8 +343,15 @@ mod tests {
     fn choices_and_shell_options_parse() {
         assert_eq!(
             "Disk".parse::<GeometryChoice>().unwrap(),
-            GeometryChoice::Disk
+            GeometryChoice::Particles(Primitive::Disk)
         );
+        for p in Primitive::ALL {
+            let choice = GeometryChoice::Particles(p);
+            assert_eq!(
+                choice.to_string().parse::<GeometryChoice>().unwrap(),
+                choice
+            );
+        }
         assert_eq!(
             "mesh:a/b.obj".parse::<GeometryChoice>().unwrap(),
             GeometryChoice::Mesh("a/b.obj".into())

@@ -4,16 +4,24 @@
 //! naming its key. It is the one place that validates the description; the stages after it
 //! (`load`, `build`, `output`) take the typed values.
 //!
-//! `[input]` and `film.thickness_unit` are checked when the particles are loaded
-//! (`load`): a cloud given in memory replaces them. Lights and props are checked as
-//! they are built (their defaults depend on the loaded scene's centre).
+//! It covers every section, `[input]` and `film.thickness_unit` (`input_config`; a
+//! cloud given in memory replaces them), `[[light]]` and `[[prop]]` (`lights_props`)
+//! too: a mistake anywhere is refused before any particle is read. What depends on the loaded
+//! scene (lights facing its centre, the camera's framing, distances from its size) is filled
+//! in after loading, from values checked here.
 
+pub use super::environment_config::EnvironmentConfig;
+pub use super::image_size::image_size;
 use crate::geometry::Primitive;
 use crate::image::{Grade, ToneMap};
 use crate::optics::check_film_params;
 use crate::render::{MAX_SPP, Preset, RenderSettings, ShadingMode, View};
-use crate::scene::{CameraDesc, EnvironmentDesc, OutputDesc, SceneDesc};
+use crate::scene::{CameraDesc, OutputDesc, SceneDesc};
 use crate::spectrum::WavelengthStrategy;
+
+use super::environment_config::{environment, vec3};
+use super::input_config::InputConfig;
+use super::lights_props::{LightConfig, PropConfig};
 use crate::{Error, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -50,6 +58,12 @@ pub struct RenderConfig {
     pub environment: EnvironmentConfig,
     /// Output file and tone mapping.
     pub output: OutputConfig,
+    /// Where the particles come from.
+    pub input: InputConfig,
+    /// `[[light]]`s (placed in the loaded scene by `studio::staging`).
+    pub lights: Vec<LightConfig>,
+    /// `[[prop]]`s (a mesh's file is read by `studio::props`).
+    pub props: Vec<PropConfig>,
 }
 
 /// `[film]`, checked.
@@ -101,27 +115,6 @@ pub struct CameraConfig {
     pub focus_distance: Option<f32>,
 }
 
-/// `[environment]`, checked (a map's file is read when the scene is built).
-#[derive(Debug, Clone, PartialEq)]
-pub enum EnvironmentConfig {
-    /// The built-in studio, its radiance times `intensity`.
-    Studio {
-        /// Multiplier on the studio's radiance.
-        intensity: f32,
-    },
-    /// One radiance (linear RGB, intensity applied) from every direction.
-    Uniform(Vec3),
-    /// A lat-long EXR panorama.
-    Map {
-        /// The EXR file, resolved against the scene's folder.
-        path: PathBuf,
-        /// Rotation about +y, degrees.
-        rotation_deg: f32,
-        /// Multiplier on the map's radiance.
-        intensity: f32,
-    },
-}
-
 /// `[output]`, checked.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OutputConfig {
@@ -145,16 +138,6 @@ where
     }
 }
 
-/// `v` as a vector, if finite; else an error naming `key`.
-pub(crate) fn vec3(v: [f32; 3], key: &str) -> Result<Vec3> {
-    let v = Vec3::from(v);
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(Error::invalid(format!("{key} must be finite")))
-    }
-}
-
 impl SceneDesc {
     /// The typed, checked configuration of this description; paths are resolved against
     /// `base` (the scene file's folder). Cost: parsing a few strings; reads no file.
@@ -163,6 +146,15 @@ impl SceneDesc {
     /// [`Error::Invalid`] naming the first bad key and its value (see [`SceneDesc::locate`] to
     /// add the scene file's line).
     pub fn resolve(&self, base: &Path) -> Result<RenderConfig> {
+        self.resolve_for(base, false)
+    }
+
+    /// [`SceneDesc::resolve`]; with `given_cloud` the particles are given in memory (the
+    /// Python API) and `[input]` is not checked (it is not read).
+    ///
+    /// # Errors
+    /// As [`SceneDesc::resolve`].
+    pub fn resolve_for(&self, base: &Path, given_cloud: bool) -> Result<RenderConfig> {
         let (ior, primitive) = optics(self)?;
         let preset: Preset = parse_enum(&self.render.preset, Preset::Balanced, "render.preset")?;
         let defaults = preset.values();
@@ -181,8 +173,8 @@ impl SceneDesc {
             shading,
         )?;
         let film = film(self, ior, primitive, preset)?;
-        let attribute = match view {
-            View::Attribute => Some(attribute_view(self)?),
+        let attribute = match &view {
+            View::Attribute(name) => Some(attribute_view(self, name)?),
             _ => None,
         };
         Ok(RenderConfig {
@@ -202,6 +194,9 @@ impl SceneDesc {
                 tonemap,
                 grade: grade(&self.output)?,
             },
+            input: super::input_config::input(self, given_cloud)?,
+            lights: super::lights_props::lights(self)?,
+            props: super::lights_props::props(self, base)?,
         })
     }
 }
@@ -210,8 +205,15 @@ impl SceneDesc {
 fn optics(d: &SceneDesc) -> Result<(f32, Primitive)> {
     let ior = d.film.ior.unwrap_or(1.33);
     check_film_params(ior as f64, 0.0).map_err(|m| Error::invalid(format!("film.ior: {m}")))?;
-    let primitive = parse_enum(&d.film.primitive, Primitive::Disk, "film.primitive")?;
-    Ok((ior, primitive))
+    Ok((ior, primitive(d)?))
+}
+
+/// `film.primitive` (default: [`Primitive::default`]).
+///
+/// # Errors
+/// [`Error::Invalid`] naming the key for an unknown name.
+pub fn primitive(d: &SceneDesc) -> Result<Primitive> {
+    parse_enum(&d.film.primitive, Primitive::default(), "film.primitive")
 }
 
 /// `[film]` with its defaults: checks the default thickness and the thickness and radius
@@ -240,20 +242,11 @@ fn film(d: &SceneDesc, ior: f32, primitive: Primitive, preset: Preset) -> Result
         default_thickness_nm,
         radius_scale,
         // First-order detail on disks unless the scene or the preset turns it off.
-        first_order_detail: primitive == Primitive::Disk
+        first_order_detail: primitive.takes_first_order_detail()
             && f.curvature.unwrap_or(preset.first_order_detail()),
-        fit_radii: primitive != Primitive::Sphere && f.fit_radii != Some(false),
+        fit_radii: primitive.fits_radii() && f.fit_radii != Some(false),
         blend: f.blend != Some(false),
     })
-}
-
-/// The image size a scene renders at, (width, height) pixels: `[render]`'s, 960×540 where
-/// unset (as `settings` decides it; checked there).
-pub fn image_size(d: &SceneDesc) -> (usize, usize) {
-    (
-        d.render.width.unwrap_or(960),
-        d.render.height.unwrap_or(540),
-    )
 }
 
 /// `[render]`'s sampling settings, the preset filling what is unset; checks the image size
@@ -357,8 +350,7 @@ fn wavelengths(n: usize, shading: ShadingMode) -> Result<usize> {
 }
 
 /// The NAME and colour-bar range of an `attribute:NAME` view.
-fn attribute_view(d: &SceneDesc) -> Result<AttributeView> {
-    let view = d.render.view.as_deref().unwrap_or_default();
+fn attribute_view(d: &SceneDesc, name: &str) -> Result<AttributeView> {
     let range = match d.render.view_range {
         Some([a, b]) if a.is_finite() && b.is_finite() && a < b => Some((a, b)),
         Some([a, b]) => {
@@ -369,7 +361,7 @@ fn attribute_view(d: &SceneDesc) -> Result<AttributeView> {
         None => None,
     };
     Ok(AttributeView {
-        name: view.strip_prefix("attribute:").unwrap_or(view).to_string(),
+        name: name.to_string(),
         range,
     })
 }
@@ -400,6 +392,11 @@ impl CameraConfig {
         if let Some(f) = c.focus_distance {
             check_focus(f)?;
         }
+        if position.is_some() && position == look_at {
+            return Err(Error::invalid(
+                "camera.position and camera.look_at are the same point",
+            ));
+        }
         Ok(CameraConfig {
             position,
             look_at,
@@ -420,36 +417,6 @@ pub(crate) fn check_focus(focus: f32) -> Result<f32> {
         Err(Error::invalid(format!(
             "camera.focus_distance must be > 0, got {focus}"
         )))
-    }
-}
-
-/// `[environment]`: studio (default), uniform, or a map (the default when one is named).
-fn environment(e: &EnvironmentDesc, base: &Path) -> Result<EnvironmentConfig> {
-    let intensity = e.intensity.unwrap_or(1.0);
-    if !(intensity.is_finite() && intensity >= 0.0) {
-        return Err(Error::invalid(format!(
-            "environment.intensity must be >= 0, got {intensity}"
-        )));
-    }
-    let default = if e.map.is_some() { "map" } else { "studio" };
-    match e.kind.as_deref().unwrap_or(default) {
-        "studio" => Ok(EnvironmentConfig::Studio { intensity }),
-        "uniform" => Ok(EnvironmentConfig::Uniform(
-            vec3(e.colour.unwrap_or([1.0; 3]), "environment.colour")? * intensity,
-        )),
-        "map" => {
-            let path = e.map.as_ref().ok_or_else(|| {
-                Error::invalid("environment.kind = \"map\" needs environment.map")
-            })?;
-            Ok(EnvironmentConfig::Map {
-                path: base.join(path),
-                rotation_deg: e.rotation.unwrap_or(0.0),
-                intensity,
-            })
-        }
-        other => Err(Error::invalid(format!(
-            "environment.kind: unknown '{other}' (expected studio, uniform or map)"
-        ))),
     }
 }
 

@@ -6,56 +6,14 @@
 //! a droplet, as before.
 
 use std::path::PathBuf;
-use std::str::FromStr;
 
 use super::Note;
+pub use super::liquid_mode::LiquidMode;
 use super::liquid_origin::{Origin, origin};
+use crate::Result;
 use crate::geometry::LiquidSurface;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::liquid::classify;
-use crate::scene::SceneDesc;
-use crate::{Error, Result};
-
-/// How bulk liquid is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum LiquidMode {
-    /// As `Surface` for the 3D particles of a thin-film SPH run present since its frame 0 (or
-    /// when there is no frame 0 to ask); every 3D particle a droplet when the run's frame 0
-    /// holds none (spray shed by a rupture). The default.
-    #[default]
-    Auto,
-    /// Particles in liquid bodies as a water surface; the rest droplets.
-    Surface,
-    /// Every 3D particle a droplet.
-    Droplets,
-}
-
-impl FromStr for LiquidMode {
-    type Err = Error;
-
-    /// Parses `"auto"`, `"surface"` or `"droplets"` (case-insensitive).
-    fn from_str(s: &str) -> Result<Self> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "auto" => Ok(LiquidMode::Auto),
-            "surface" => Ok(LiquidMode::Surface),
-            "droplets" => Ok(LiquidMode::Droplets),
-            _ => Err(Error::invalid(format!(
-                "input.liquid: unknown value '{s}' (expected 'auto', 'surface' or 'droplets')"
-            ))),
-        }
-    }
-}
-
-/// The scene's liquid mode (`[input] liquid`, default auto).
-///
-/// # Errors
-/// An unknown value.
-pub(super) fn mode(desc: &SceneDesc) -> Result<LiquidMode> {
-    desc.input
-        .liquid
-        .as_deref()
-        .map_or(Ok(LiquidMode::Auto), str::parse)
-}
 
 /// Splits the droplet parts `drops` of the inputs `inputs` (resolved paths; none for a cloud
 /// given in memory) into the particles that stay droplets (one cloud per part, attributes

@@ -4,10 +4,10 @@
 
 use super::config::FilmConfig;
 use super::droplets::read_input_parts;
+use super::input_config::{read_options, sample_kind, sample_params};
 use super::prepared::Note;
 pub use super::sample_check::check_sample_params;
-use crate::geometry::Primitive;
-use crate::io::{CloudPart, PartKind, ReadOptions, ThicknessUnit, read_cloud};
+use crate::io::{CloudPart, PartKind, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
 use crate::pointcloud::gaps::{
@@ -17,7 +17,7 @@ use crate::pointcloud::knn::{KnnTable, PointIndex};
 use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
 };
-use crate::samples::{SampleKind, SampleParams, sparse};
+use crate::samples::sparse;
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use std::path::Path;
@@ -32,19 +32,6 @@ pub fn thickness_unit_factor(unit: &str) -> Result<f64> {
         .map_err(Error::invalid)
 }
 
-/// How the scene's input files are read: attribute names and the thickness unit (without an
-/// explicit unit each format's own applies: m for the simulators' files, nm else).
-fn read_options(desc: &SceneDesc) -> Result<ReadOptions> {
-    let input = &desc.input;
-    ReadOptions {
-        thickness_attr: input.thickness_attr.clone(),
-        normal_attr: input.normal_attr.clone(),
-        radius_attr: input.radius_attr.clone(),
-        ..ReadOptions::default()
-    }
-    .with_unit(desc.film.thickness_unit.as_deref())
-}
-
 /// Loads (or generates) the scene's particle cloud, with thickness in nm: `input.cloud`'s
 /// film (every film part of it as one cloud), or the sample.
 pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
@@ -57,18 +44,8 @@ pub fn load_cloud(desc: &SceneDesc, base: &Path) -> Result<PointCloud> {
             "input: no particles given (set input.cloud or input.sample)",
         )),
         (None, Some(name)) => {
-            let kind = SampleKind::from_name(name)
-                .map_err(|e| Error::invalid(format!("input.sample: {e}")))?;
-            let mut p = SampleParams::default();
-            if let Some(n) = input.particles {
-                p.particles = n;
-            }
-            if let Some(s) = input.sample_seed {
-                p.seed = s;
-            }
-            if let Some(t) = input.time {
-                p.time = t;
-            }
+            let kind = sample_kind(name)?;
+            let p = sample_params(input);
             check_sample_params(&p, input.sparse, "input.")?;
             let cloud = kind.generate(&p);
             Ok(match input.sparse {
@@ -182,10 +159,10 @@ impl Films {
     /// disks overlap into a closed film, so spheres drawn as particles get half of that, and
     /// each particle stays visible as its own ball.
     pub fn radii(&self, film: &FilmConfig) -> Vec<f32> {
-        let estimated_scale = if !self.had_radius && film.primitive == Primitive::Sphere {
-            0.5
-        } else {
+        let estimated_scale = if self.had_radius {
             1.0
+        } else {
+            film.primitive.estimated_radius_scale()
         };
         let scale = film.radius_scale * estimated_scale;
         self.cloud

@@ -119,8 +119,7 @@ pub use crate::budget::{human_bytes, parse_size};
 /// As [`peek_count`] for an unreadable or unrecognised input file; [`Error::Invalid`] if the
 /// scene names no particles.
 pub fn estimate_scene(desc: &SceneDesc, base: &Path, exr: bool) -> Result<MemoryEstimate> {
-    let width = desc.render.width.unwrap_or(960);
-    let height = desc.render.height.unwrap_or(540);
+    let (width, height) = super::image_size::image_size(desc);
     let paths = desc.input.paths();
     if !paths.is_empty() {
         let (mut particles, mut file, mut exact) = (0u64, 0u64, true);

@@ -33,9 +33,14 @@ pub mod camera_path;
 pub mod compare;
 pub mod config;
 mod droplets;
+mod environment_config;
 mod foam;
 pub mod framing;
+mod image_size;
+pub mod input_config;
+pub mod lights_props;
 mod liquid;
+mod liquid_mode;
 mod liquid_origin;
 mod load;
 mod melp_sets;
@@ -103,8 +108,12 @@ pub fn prepare_staged(
     cloud: Option<PointCloud>,
 ) -> Result<Prepared> {
     // Resolve: the typed, checked configuration, before anything is read.
-    let config = desc.resolve(base)?;
+    let config = desc.resolve_for(base, cloud.is_some())?;
     let mut notes = Vec::new();
+    // Read before the particles: props' meshes, the environment map (the studio stays where
+    // the default camera's photographer set it: orbits and scene-line cameras light alike).
+    let props = studio::props(&config.props)?;
+    let environment = build::environment(&config.environment, Studio::default().view)?;
 
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
@@ -128,12 +137,9 @@ pub fn prepare_staged(
     let tol = Tolerances::of(bounds, config.film.primitive, &radii);
     let framing = build::framing(&geometry, &films.cloud, &radii, &drops, bounds);
     let (width, height) = (config.settings.width, config.settings.height);
-    let aspect = scene_aspect(config.view, width, height);
+    let aspect = scene_aspect(&config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
-    // The studio stays where the default camera's photographer set it (not turned with this
-    // camera), so the viewer's orbits and the same camera given as scene lines light alike.
-    let environment = build::environment(&config.environment, Studio::default().view)?;
-    let mut staging = studio::staging(desc, base, framing.centre, tol.epsilon)?;
+    let mut staging = studio::staging(&config.lights, props, framing.centre, tol.epsilon)?;
     let n_droplets = droplets.len();
     staging.droplets = droplets;
     staging.liquid = liquid;
@@ -173,7 +179,7 @@ fn default_shot(config: &RenderConfig, camera: Camera, turn_deg: f32, progress: 
     Shot {
         camera,
         turn_deg,
-        view: config.view,
+        view: config.view.clone(),
         settings: RenderSettings {
             progress: progress == Progress::Bar,
             ..config.settings.clone()
@@ -259,7 +265,7 @@ fn load(
     let repairing = desc.input.repair == Some(true);
     let (mut films, drops) = load::split(parts, repairing, notes)?;
     foam::merge_walls(&mut films, notes);
-    let (kept, liquid) = liquid::split(&drops, liquid::mode(desc)?, &inputs, notes)?;
+    let (kept, liquid) = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
     if films.is_empty() && droplets.is_empty() && liquid.is_empty() {
         return Err(load::nothing_loaded(desc, base));

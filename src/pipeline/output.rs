@@ -13,13 +13,13 @@ use std::path::Path;
 
 /// Width / height of the part of a `width`×`height` image that `view` fills with the scene:
 /// all of it, or what its colour bar leaves.
-pub fn scene_aspect(view: View, width: usize, height: usize) -> f32 {
+pub fn scene_aspect(view: &View, width: usize, height: usize) -> f32 {
     scene_width(view, width, height) as f32 / height as f32
 }
 
 /// Columns of a `width`×`height` image that `view` fills with the scene (the rest is its
 /// colour bar).
-pub(super) fn scene_width(view: View, width: usize, height: usize) -> usize {
+pub(super) fn scene_width(view: &View, width: usize, height: usize) -> usize {
     if view.has_legend() {
         width - crate::figure::colour_bar_width(width, height)
     } else {
@@ -117,13 +117,18 @@ pub fn render_view(p: &Prepared, shot: &Shot) -> Result<Option<ViewImage>> {
         return Ok(None);
     }
     let (width, height) = (shot.settings.width, shot.settings.height);
-    let scene_w = scene_width(shot.view, width, height);
+    let scene_w = scene_width(&shot.view, width, height);
     let world = crate::render::WorldRef {
         camera: &shot.camera,
         ..(&p.scene).into()
     };
-    let mut v =
-        crate::render::render_view_of(world, shot.view, scene_w, height, p.attribute.as_ref())?;
+    let mut v = crate::render::render_view_of(
+        world,
+        shot.view.clone(),
+        scene_w,
+        height,
+        p.attribute.as_ref(),
+    )?;
     if let Some(l) = &v.legend {
         let data: Vec<[f32; 3]> = v.rgb.iter().map(|c| c.to_array()).collect();
         let img = RgbImage::from_data(v.width, v.height, data)?;

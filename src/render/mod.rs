@@ -22,7 +22,7 @@ pub mod world;
 pub use camera::Camera;
 pub use environment::{Environment, LatLongMap, SoftBox, Studio};
 pub use integrator::{RenderOutput, render};
-pub use world::{MAX_SPP, RenderSettings, Staging, World, WorldRef};
+pub use world::{DEFAULT_HEIGHT, DEFAULT_WIDTH, MAX_SPP, RenderSettings, Staging, World, WorldRef};
 
 /// The old name of [`World`] (kept so callers need not change).
 pub type Scene = World;

@@ -61,15 +61,12 @@ impl Preset {
     }
 
     /// The Russian-roulette threshold this preset chooses for `primitive` (see
-    /// `RenderSettings::roulette`). Spheres: 0.1 for `balanced` and `final` — every sphere
-    /// is its own film crossing, the ray tree of a sample grows to ~13 rays, and roulette cuts
-    /// them 4× for a little noise (on the front: 16 spp with roulette beat 4 spp without, at
-    /// equal time). Disks and MLS: 0 — their tree is short and noise-free, and roulette only
-    /// added noise for the time it saved. `preview` stops at depth 4 and needs none.
+    /// `RenderSettings::roulette`): `balanced` and `final` take the primitive's own
+    /// ([`Primitive::roulette`]); `preview` stops at depth 4 and needs none.
     pub fn roulette(self, primitive: Primitive) -> f32 {
-        match (self, primitive) {
-            (Preset::Balanced | Preset::Final, Primitive::Sphere) => 0.1,
-            _ => 0.0,
+        match self {
+            Preset::Preview => 0.0,
+            Preset::Balanced | Preset::Final => primitive.roulette(),
         }
     }
 

@@ -11,7 +11,7 @@ use std::fmt;
 use std::str::FromStr;
 
 /// What to show (`--view`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub enum View {
     /// The photorealistic thin-film render.
     #[default]
@@ -28,8 +28,8 @@ pub enum View {
     Coverage,
     /// A stored per-particle attribute (`attribute:NAME`; vectors by magnitude) of the particle
     /// that weighs most at the crossing, in false colour with a labelled colour bar. The values
-    /// come with the render ([`AttributeValues`]).
-    Attribute,
+    /// come with the render ([`AttributeValues`]). Holds NAME (not empty).
+    Attribute(String),
 }
 
 /// The values an [`View::Attribute`] view shows: one per particle of the film geometry (in its
@@ -55,21 +55,23 @@ impl FromStr for View {
             "depth" => Ok(View::Depth),
             "particle-id" => Ok(View::ParticleId),
             "coverage" => Ok(View::Coverage),
-            _ if s.strip_prefix("attribute:").is_some_and(|n| !n.is_empty()) => Ok(View::Attribute),
-            _ => Err(format!(
-                "unknown view '{s}' (expected shaded, thickness, normal, depth, particle-id, \
+            _ => match s.strip_prefix("attribute:").filter(|n| !n.is_empty()) {
+                Some(name) => Ok(View::Attribute(name.to_string())),
+                None => Err(format!(
+                    "unknown view '{s}' (expected shaded, thickness, normal, depth, particle-id, \
                  coverage or attribute:NAME)"
-            )),
+                )),
+            },
         }
     }
 }
 
 impl View {
     /// True for the views drawn with a colour bar (thickness, depth, coverage).
-    pub fn has_legend(self) -> bool {
+    pub fn has_legend(&self) -> bool {
         matches!(
             self,
-            View::Thickness | View::Depth | View::Coverage | View::Attribute
+            View::Thickness | View::Depth | View::Coverage | View::Attribute(_)
         )
     }
 }
@@ -83,7 +85,7 @@ impl fmt::Display for View {
             View::Depth => "depth",
             View::ParticleId => "particle-id",
             View::Coverage => "coverage",
-            View::Attribute => "attribute",
+            View::Attribute(_) => "attribute",
         })
     }
 }
@@ -165,7 +167,9 @@ pub fn render_view_of<'a>(
     attribute: Option<&AttributeValues>,
 ) -> Result<ViewImage> {
     let scene = scene.into();
-    if view == View::Attribute && attribute.is_none_or(|a| a.values.len() != scene.geometry.len()) {
+    if matches!(view, View::Attribute(_))
+        && attribute.is_none_or(|a| a.values.len() != scene.geometry.len())
+    {
         return Err(Error::invalid(format!(
             "the attribute view needs one value per particle ({} particles)",
             scene.geometry.len()
@@ -270,7 +274,7 @@ fn colouring(
             None,
         ),
         View::ParticleId => (Box::new(|h| id_colour(h.particle)), None),
-        View::Attribute => {
+        View::Attribute(_) => {
             let a = attribute.expect("checked by render_view_of");
             let values = a.values.clone();
             let value =

@@ -122,11 +122,18 @@ pub struct RenderSettings {
     pub tiles_done: Option<Arc<AtomicUsize>>,
 }
 
+/// Image width when none is given, pixels (every way in: flags, scene files, the viewer,
+/// Python).
+pub const DEFAULT_WIDTH: usize = 960;
+/// Image height when none is given, pixels: 540 whatever the width (a scene giving only its
+/// width renders at width×540).
+pub const DEFAULT_HEIGHT: usize = 540;
+
 impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
-            width: 960,
-            height: 540,
+            width: DEFAULT_WIDTH,
+            height: DEFAULT_HEIGHT,
             spp: 4,
             max_depth: 12,
             min_weight: 1e-3,

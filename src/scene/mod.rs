@@ -168,7 +168,7 @@ pub struct FilmDesc {
     pub thickness_scale: Option<f32>,
     /// Thickness for particles without one, nm (default 500).
     pub default_thickness_nm: Option<f32>,
-    /// "disk" or "sphere" (default "disk").
+    /// "disk", "sphere" or "mls" (default "disk"; see `geometry::Primitive`).
     pub primitive: Option<String>,
     /// Factor on every splat radius (estimated or from the file), default 1.
     pub radius_scale: Option<f32>,

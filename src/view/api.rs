@@ -69,7 +69,7 @@ struct SceneJson<'a> {
     /// Exposure, EV.
     exposure: f32,
     views: Vec<String>,
-    primitives: &'a [&'a str],
+    primitives: Vec<&'a str>,
     presets: &'a [&'a str],
     /// Film particles of frame 0.
     particles: usize,
@@ -108,11 +108,11 @@ fn scene_json(
             fov: cam.fov,
         },
         size: [d.size.0, d.size.1],
-        primitive: &d.primitive,
+        primitive: d.primitive.name(),
         view: &d.view,
         exposure: d.exposure,
         views,
-        primitives: &params::PRIMITIVES,
+        primitives: params::PRIMITIVES.map(|p| p.name()).to_vec(),
         presets: &params::PRESETS,
         particles,
         max_side: MAX_SIDE,
@@ -337,7 +337,7 @@ mod tests {
         };
         let d = Defaults {
             size: (64, 36),
-            primitive: "disk".into(),
+            primitive: crate::geometry::Primitive::Disk,
             view: "shaded".into(),
             exposure: -0.5,
         };

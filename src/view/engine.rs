@@ -5,6 +5,7 @@
 
 use super::params::{Job, Pass, Variant, ViewCamera};
 use super::picture::Picture;
+use crate::geometry::Primitive;
 use crate::image::{RgbImage, ToneMap, to_srgb8};
 use crate::pipeline::{self, Prepared, Shot, framing, memory};
 use crate::render::{Preset, RenderSettings, View};
@@ -39,8 +40,8 @@ pub struct Built {
 pub struct Defaults {
     /// Image size, pixels.
     pub size: (usize, usize),
-    /// `disk`, `sphere` or `mls`.
-    pub primitive: String,
+    /// How the particles are drawn.
+    pub primitive: Primitive,
     /// The scene's view (`shaded`, ..., `attribute:NAME`).
     pub view: String,
     /// Exposure, EV.
@@ -50,11 +51,9 @@ pub struct Defaults {
 /// The scene's defaults (before anything is prepared).
 pub fn defaults(desc: &SceneDesc) -> Defaults {
     Defaults {
-        size: (
-            desc.render.width.unwrap_or(960),
-            desc.render.height.unwrap_or(540),
-        ),
-        primitive: desc.film.primitive.clone().unwrap_or_else(|| "disk".into()),
+        size: pipeline::config::image_size(desc),
+        // A bad name is refused when the frame is prepared (before the server serves).
+        primitive: pipeline::config::primitive(desc).unwrap_or_default(),
         view: desc.render.view.clone().unwrap_or_else(|| "shaded".into()),
         exposure: desc.output.exposure.unwrap_or(0.0),
     }
@@ -65,7 +64,7 @@ pub fn defaults(desc: &SceneDesc) -> Defaults {
 fn variant_desc(desc: &SceneDesc, v: &Variant) -> SceneDesc {
     let mut d = desc.clone();
     if let Some(p) = &v.primitive {
-        d.film.primitive = Some(p.clone());
+        d.film.primitive = Some(p.name().to_string());
     }
     if let Some(p) = &v.preset {
         d.set_preset(p);
@@ -201,10 +200,10 @@ pub fn render(built: &Built, job: &Job, cancel: Arc<AtomicBool>) -> Result<Pictu
         camera: camera_desc(&built.desc, &job.camera),
         ..SceneDesc::default()
     };
-    let aspect = pipeline::scene_aspect(view, job.width, job.height);
+    let aspect = pipeline::scene_aspect(&view, job.width, job.height);
     let shot = Shot {
         camera: pipeline::camera(&desc, &p.framing, aspect)?,
-        view,
+        view: view.clone(),
         settings,
         ..p.shot.clone()
     };

@@ -2,6 +2,7 @@
 //! limits: the camera, the frame, the image size, the view, the preset, the pass.
 
 use super::http::Request;
+use crate::geometry::Primitive;
 
 /// The views the page offers besides `attribute:NAME`.
 pub const VIEWS: [&str; 6] = [
@@ -12,8 +13,8 @@ pub const VIEWS: [&str; 6] = [
     "coverage",
     "particle-id",
 ];
-/// The primitives the page offers.
-pub const PRIMITIVES: [&str; 3] = ["disk", "sphere", "mls"];
+/// The primitives the page offers: every one.
+pub const PRIMITIVES: [Primitive; Primitive::ALL.len()] = Primitive::ALL;
 /// The presets the page offers (`scene`: the scene file's and flags' own settings).
 pub const PRESETS: [&str; 4] = ["scene", "preview", "balanced", "final"];
 /// Largest side of a picture for the page, pixels.
@@ -54,7 +55,7 @@ pub struct Variant {
     /// Index into the server's frames.
     pub frame: usize,
     /// Primitive replacing the scene's (`None`: the scene's).
-    pub primitive: Option<String>,
+    pub primitive: Option<Primitive>,
     /// Preset replacing the scene's settings (`None`: the scene's).
     pub preset: Option<String>,
     /// The attribute of an `attribute:NAME` view (its values are gathered when preparing).
@@ -138,6 +139,20 @@ fn choice(req: &Request, key: &str, allowed: &[&str]) -> Result<Option<String>, 
     }
 }
 
+/// The primitive a request asks for (`scene` or none: the scene's), by its exact name.
+fn primitive(req: &Request) -> Result<Option<Primitive>, Refusal> {
+    match req.param("primitive") {
+        None | Some("scene") => Ok(None),
+        Some(v) => match PRIMITIVES.into_iter().find(|p| p.name() == v) {
+            Some(p) => Ok(Some(p)),
+            None => Err(bad(format!(
+                "primitive: unknown '{v}' (expected {})",
+                PRIMITIVES.map(Primitive::name).join(", ")
+            ))),
+        },
+    }
+}
+
 /// The camera of a request: `pos`, `look`, `up` and `fov`.
 pub fn camera(req: &Request) -> Result<ViewCamera, Refusal> {
     let c = ViewCamera {
@@ -216,7 +231,7 @@ fn view(req: &Request) -> Result<(String, Option<String>), Refusal> {
 pub fn variant(req: &Request, frames: usize) -> Result<Variant, Refusal> {
     Ok(Variant {
         frame: index(req, "frame", frames, 0)?,
-        primitive: choice(req, "primitive", &PRIMITIVES)?,
+        primitive: primitive(req)?,
         preset: choice(req, "preset", &PRESETS[1..])?,
         attribute: view(req)?.1,
     })
@@ -277,6 +292,17 @@ mod tests {
         let plain = job(&req(OK), 3, MAX_SIDE).unwrap();
         assert_eq!((plain.view.as_str(), plain.pass), ("shaded", Pass::Final));
         assert_eq!(plain.variant.primitive, None);
+    }
+
+    #[test]
+    fn the_page_offers_every_primitive_and_each_is_accepted() {
+        assert_eq!(PRIMITIVES, Primitive::ALL);
+        for p in Primitive::ALL {
+            let j = job(&req(&format!("{OK}&primitive={}", p.name())), 3, MAX_SIDE).unwrap();
+            assert_eq!(j.variant.primitive, Some(p));
+        }
+        let scene = job(&req(&format!("{OK}&primitive=scene")), 3, MAX_SIDE).unwrap();
+        assert_eq!(scene.variant.primitive, None);
     }
 
     #[test]
