@@ -66,7 +66,11 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
 /// `progress` says.
 pub(super) fn prepare_frame(a: &RenderArgs, progress: Progress) -> Result<Prepared> {
     let (desc, base) = scene_from_args(a)?;
-    // The whole configuration first: the memory estimate below reads the inputs' headers.
+    // --max-memory first: resolve checks the image size against the allowance.
+    if let Some(bytes) = a.max_memory {
+        crate::budget::set_allowance(bytes);
+    }
+    // The whole configuration next: the memory estimate below reads the inputs' headers.
     desc.resolve(&base)?;
     let output = output_path(a, &desc, &base);
     // A movie's frame writes no file of its own (`--exr` is refused with a movie).
@@ -77,9 +81,6 @@ pub(super) fn prepare_frame(a: &RenderArgs, progress: Progress) -> Result<Prepar
     };
     for p in &outputs {
         pipeline::check_extension(p)?;
-    }
-    if let Some(bytes) = a.max_memory {
-        crate::budget::set_allowance(bytes);
     }
     if let Some(limit) = memory::Limit::new(a.max_memory) {
         let exr = outputs

@@ -317,7 +317,11 @@ pub fn check_image_size(w: usize, h: usize) -> Result<()> {
         pixels * (super::memory::RENDER_BYTES_PER_PIXEL + super::memory::PNG_BYTES_PER_PIXEL),
         || format!("a {w}x{h} render"),
     )
-    .map_err(Error::invalid)
+    .map_err(|m| {
+        Error::invalid(format!(
+            "{m} (a smaller size, or a higher limit: --max-memory, FILMSPLAT_MEMORY_LIMIT)"
+        ))
+    })
 }
 
 /// `output.exposure` (default 0 EV), checked to be within -64..64 EV.
