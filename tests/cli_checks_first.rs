@@ -146,3 +146,28 @@ fn a_bad_scene_fails_before_the_first_frame_of_a_sequence() {
     );
     assert!(!err.contains("frame 0"), "no frame was read: {err}");
 }
+
+/// `input.clouds` with `input.sample` is refused: the sample would be drawn and the clouds
+/// dropped without a word.
+#[test]
+fn clouds_and_a_sample_are_refused_not_one_dropped() {
+    let input = hostile("clouds_and_sample.ply");
+    let file = tmp("clouds_and_sample.toml");
+    let text = format!(
+        "[input]\nclouds = [\"{}\"]\nsample = \"bubble\"\n",
+        input.file_name().unwrap().to_string_lossy()
+    );
+    std::fs::write(&file, text).unwrap();
+    let out = tmp("clouds_and_sample.png");
+    let (code, _, err) = filmsplat(&[
+        "render",
+        &file.to_string_lossy(),
+        "-o",
+        &out.to_string_lossy(),
+        "--size",
+        "16x12",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("either clouds or sample"), "{err}");
+    assert!(!out.exists());
+}

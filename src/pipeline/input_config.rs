@@ -47,6 +47,11 @@ fn particles(desc: &SceneDesc) -> Result<()> {
                 "input: give either cloud or sample, not both",
             ));
         }
+        (None, Some(_)) if input.clouds.is_some() => {
+            return Err(Error::invalid(
+                "input: give either clouds or sample, not both",
+            ));
+        }
         (_, Some(name)) => {
             sample_kind(name)?;
             return check_sample_params(&sample_params(input), input.sparse, "input.");
