@@ -3,16 +3,10 @@
 //! [`read_cloud`] picks the reader ([`detect_format`]) from the file's first bytes (magic),
 //! else its extension, or for a directory its content, and every reader fills the same
 //! [`PointCloud`](crate::pointcloud::PointCloud). What each format is (extensions, magic,
-//! reader, size estimate, help) is one row of [`formats::FORMATS`]:
+//! reader, size estimate, help) is one row of [`formats::FORMATS`].
 //!
-//! | format | reader | thickness unit by default |
-//! |---|---|---|
-//! | PLY (ASCII, binary LE/BE) | [`ply`] | nm |
-//! | VTK legacy `.vtk` (ASCII, binary) | [`vtk`] | nm |
-//! | VTK XML `.vtu`/`.vtp` (ascii, base64, appended raw/base64, zlib) | [`vtu`] | nm |
-//! | Houdini BGEO V5 `.bgeo` (plain or gzip) | [`bgeo`] | nm |
-//! | CSV / XYZ text with a header line | [`csv`] | nm |
-//! | thin-film SPH frame folder (`x_bin`, `norm_bin`, `rh_bin`, ...) | [`frame_folder::read`] | m |
+//! Each reader's docs give the thickness unit its writers use (nm for the generic file
+//! formats, m for the thin-film SPH folders).
 //!
 //! Attribute names: positions are the format's positions (`x y z`, `POINTS`, `P`, `x_bin`).
 //! Vector attributes become the scalar attributes `name_x name_y name_z` (other component
