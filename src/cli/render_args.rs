@@ -169,6 +169,20 @@ pub struct RenderArgs {
     /// range of what is visible).
     #[arg(long, value_parser = super::parse::min_max, allow_hyphen_values = true)]
     pub(super) view_range: Option<[f32; 2]>,
+    /// Motion blur: the fraction of a frame the shutter is open, 0..=1 (default 0, off),
+    /// centred on the frame's time. The film particles move along their stored velocity
+    /// (velocity, v or V with x, y, z components, scene units per simulation second); needs
+    /// --frame-time. The shaded view only.
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub(super) shutter: Option<f32>,
+    /// Simulation seconds between two frames, for --shutter (the simulators do not store it;
+    /// e.g. 0.02 for the thin-film SPH code's frame_rate = 50).
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub(super) frame_time: Option<f32>,
+    /// Time slices of the open shutter (1..=256, default 8, at most --spp): each is rendered
+    /// with its share of the samples from its own geometry, and the pictures averaged.
+    #[arg(long, value_name = "K")]
+    pub(super) shutter_slices: Option<u32>,
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii (says how many), instead of refusing the file.
     #[arg(long)]

@@ -89,6 +89,9 @@ fn render_flags(d: &mut SceneDesc, a: &RenderArgs) {
     over(&mut r.max_depth, &a.max_depth);
     over(&mut r.roulette, &a.roulette);
     over(&mut r.light_samples, &a.light_samples);
+    over(&mut r.shutter, &a.shutter);
+    over(&mut r.frame_time, &a.frame_time);
+    over(&mut r.shutter_slices, &a.shutter_slices);
     if let Some((w, h)) = a.size {
         (r.width, r.height) = (Some(w), Some(h));
     }

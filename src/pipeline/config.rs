@@ -12,6 +12,7 @@
 
 pub use super::environment_config::EnvironmentConfig;
 pub use super::image_size::image_size;
+pub use super::motion::ShutterConfig;
 use crate::geometry::Primitive;
 use crate::image::{Grade, ToneMap};
 use crate::optics::check_film_params;
@@ -64,6 +65,8 @@ pub struct RenderConfig {
     pub lights: Vec<LightConfig>,
     /// `[[prop]]`s (a mesh's file is read by `studio::props`).
     pub props: Vec<PropConfig>,
+    /// Motion blur: the open shutter (`None`: closed, the default).
+    pub shutter: Option<ShutterConfig>,
 }
 
 /// `[film]`, checked.
@@ -177,7 +180,9 @@ impl SceneDesc {
             View::Attribute(name) => Some(attribute_view(self, name)?),
             _ => None,
         };
+        let shutter = ShutterConfig::resolve(self, &view)?;
         Ok(RenderConfig {
+            shutter,
             film,
             preset,
             settings,

@@ -45,6 +45,7 @@ mod liquid_origin;
 mod load;
 mod melp_sets;
 pub mod memory;
+pub mod motion;
 mod output;
 pub mod pinholes;
 mod prepared;
@@ -126,7 +127,13 @@ pub fn prepare_staged(
         .map(|a| build::attribute_values(a, &films.cloud, &radii))
         .transpose()?;
 
-    // Build: the film geometry.
+    // Build: the film geometry (and, with an open shutter, the films at each slice's time).
+    let motion = motion_slices(desc, base, &config, &films, &radii, progress)?;
+    if !motion.is_empty() && !droplets.is_empty() {
+        notes.push(Note::new(
+            "--shutter moves the films only: the droplets are drawn where the frame holds them",
+        ));
+    }
     let (geometry, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
@@ -161,6 +168,7 @@ pub fn prepare_staged(
         framing,
         aspect,
         turned,
+        motion,
         shader,
         shot,
         output: config.output.path,
@@ -188,6 +196,37 @@ fn default_shot(config: &RenderConfig, camera: Camera, turn_deg: f32, progress: 
         tonemap: config.output.tonemap,
         grade: config.output.grade,
     }
+}
+
+/// With an open shutter, the films at each time slice (see [`motion`]); none otherwise.
+fn motion_slices(
+    desc: &SceneDesc,
+    base: &Path,
+    config: &RenderConfig,
+    films: &load::Films,
+    radii: &[f32],
+    progress: Progress,
+) -> Result<Vec<motion::MotionSlice>> {
+    let Some(shutter) = config.shutter else {
+        return Ok(Vec::new());
+    };
+    let source = desc.input.paths().first().map_or_else(
+        || "the given cloud".to_string(),
+        |p| base.join(p).display().to_string(),
+    );
+    let velocities = motion::velocities(&films.cloud, &source)?;
+    let times = shutter.times_s(config.settings.spp);
+    let stage = progress.start(&format!("building {} motion-blur slices", times.len()));
+    let slices = motion::slices(
+        &config.film,
+        &films.cloud,
+        &velocities,
+        radii,
+        &films.clips,
+        &times,
+    )?;
+    stage.finish(&format!("built {} motion-blur slices", slices.len()));
+    Ok(slices)
 }
 
 /// The film shader `config` asks for.
@@ -306,5 +345,8 @@ pub fn render(p: &Prepared, shot: &Shot) -> Result<RenderOutput> {
         footprints: footprints.as_ref(),
         ..WorldRef::from(&p.scene)
     };
+    if !p.motion.is_empty() {
+        return motion::render(&p.motion, world, &p.shader, &shot.settings);
+    }
     crate::render::render(world, &p.shader, &shot.settings)
 }

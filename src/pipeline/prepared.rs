@@ -26,6 +26,9 @@ pub struct Prepared {
     /// The environment turned as the scene file turns it (its degrees and the turned copy;
     /// `None` when it is not turned), so the default shot's renders need no copy.
     pub(super) turned: Option<(f32, Environment)>,
+    /// With an open shutter (`render.shutter`), the films at each time slice, in time order:
+    /// a render averages them (see [`super::motion`]); empty when the shutter is closed.
+    pub motion: Vec<super::motion::MotionSlice>,
     /// The film shader.
     pub shader: FilmShader,
     /// The picture the scene file describes: its camera, turn, view, settings and exposure.

@@ -275,6 +275,15 @@ pub struct RenderDesc {
     /// Values at the ends of the colour bar of an `attribute:NAME` view (default: the range of
     /// what is visible).
     pub view_range: Option<[f32; 2]>,
+    /// Motion blur: the fraction of a frame the shutter is open, 0..=1 (default 0, off),
+    /// centred on the frame's time; particles move along their stored velocity.
+    pub shutter: Option<f32>,
+    /// Simulation seconds between two frames (the simulators do not store it); required with
+    /// a shutter.
+    pub frame_time: Option<f32>,
+    /// Time slices the open shutter is rendered as (1..=256, default 8; never more than the
+    /// samples per pixel).
+    pub shutter_slices: Option<u32>,
 }
 
 /// `[output]`: files and tone mapping.

@@ -1,0 +1,246 @@
+//! Motion blur (`render --shutter`) on a known motion: a flat square film moving at a known
+//! velocity is smeared along the motion by the distance it covers while the shutter is open
+//! (projected to pixels), centred on the frame's position, and not across it; a closed shutter
+//! gives exactly the unblurred image; bad values are refused in one line before any render.
+
+mod cli_support;
+use cli_support::{filmsplat, tmp};
+
+use std::path::{Path, PathBuf};
+
+const W: usize = 64;
+const H: usize = 48;
+/// Camera distance and vertical field of view: pixels per scene unit at the film's plane.
+const DISTANCE: f32 = 3.0;
+const FOV_DEG: f32 = 40.0;
+/// The film's speed (scene units per second), the frame time (s) and the shutter.
+const SPEED: f32 = 1.0;
+const FRAME_TIME: f32 = 0.5;
+const SHUTTER: f32 = 1.0;
+const SLICES: u32 = 8;
+
+/// A square film, 1 × 1 in the plane z = 0, of disks 0.05 apart, all moving at `velocity`.
+fn square(path: &Path, velocity: [&str; 3]) {
+    let mut rows = Vec::new();
+    for i in 0..=20 {
+        for j in 0..=20 {
+            let (x, y) = (-0.5 + 0.05 * i as f32, -0.5 + 0.05 * j as f32);
+            let [vx, vy, vz] = velocity;
+            rows.push(format!("{x} {y} 0 0 0 1 0.04 400 {vx} {vy} {vz}"));
+        }
+    }
+    let head = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
+         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+         property float radius\nproperty float thickness\nproperty float velocity_x\n\
+         property float velocity_y\nproperty float velocity_z\nend_header\n",
+        rows.len()
+    );
+    std::fs::write(path, head + &rows.join("\n") + "\n").unwrap();
+}
+
+/// Renders `ply` head-on with `extra` flags; returns the PNG's bytes and the EXR's alpha
+/// (coverage), row-major.
+fn render(ply: &Path, name: &str, extra: &[&str]) -> (Vec<u8>, Vec<f32>) {
+    let png = tmp(&format!("{name}.png"));
+    let exr = tmp(&format!("{name}.exr"));
+    let size = format!("{W}x{H}");
+    let fov = FOV_DEG.to_string();
+    let camera = format!("0,0,{DISTANCE}");
+    let mut args = vec![
+        "render",
+        ply.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--exr",
+        exr.to_str().unwrap(),
+        "--size",
+        &size,
+        "--spp",
+        "16",
+        "--camera",
+        &camera,
+        "--look-at",
+        "0,0,0",
+        "--fov",
+        &fov,
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, err) = filmsplat(&args);
+    assert_eq!(code, 0, "{err}");
+    let layers = filmsplat::image::read_exr(&exr).unwrap();
+    assert_eq!((layers.width, layers.height), (W, H));
+    let alpha = layers.rgba.iter().map(|p| p[3]).collect();
+    (std::fs::read(png).unwrap(), alpha)
+}
+
+/// The alpha of row `y` (a horizontal line) or column `x`.
+fn row(alpha: &[f32], y: usize) -> Vec<f32> {
+    alpha[y * W..(y + 1) * W].to_vec()
+}
+fn column(alpha: &[f32], x: usize) -> Vec<f32> {
+    (0..H).map(|y| alpha[y * W + x]).collect()
+}
+
+/// Pixels partly covered (a smeared edge) along a line, and the line's centre of coverage.
+fn smear(line: &[f32]) -> (usize, f32) {
+    let partial = line.iter().filter(|a| **a > 0.02 && **a < 0.98).count();
+    let total: f32 = line.iter().sum();
+    let centre = line
+        .iter()
+        .enumerate()
+        .map(|(i, a)| i as f32 * a)
+        .sum::<f32>()
+        / total;
+    (partial, centre)
+}
+
+/// Pixels the open shutter smears each edge over: the distance covered between the first and
+/// the last slice's middles, projected at the film's plane.
+fn expected_smear_px() -> f32 {
+    let px_per_unit = H as f32 / (2.0 * DISTANCE * (FOV_DEG.to_radians() / 2.0).tan());
+    let travel = SPEED * SHUTTER * FRAME_TIME * (1.0 - 1.0 / SLICES as f32);
+    travel * px_per_unit
+}
+
+fn blur_flags() -> Vec<String> {
+    vec![
+        "--shutter".into(),
+        SHUTTER.to_string(),
+        "--frame-time".into(),
+        FRAME_TIME.to_string(),
+        "--shutter-slices".into(),
+        SLICES.to_string(),
+    ]
+}
+
+fn ply(name: &str, velocity: [&str; 3]) -> PathBuf {
+    let path = tmp(name);
+    square(&path, velocity);
+    path
+}
+
+#[test]
+fn streaks_follow_the_velocity_centred_on_the_frame() {
+    let flags = blur_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let want = expected_smear_px();
+    for (axis, velocity) in [("x", ["1", "0", "0"]), ("y", ["0", "1", "0"])] {
+        let cloud = ply(&format!("moving-{axis}.ply"), velocity);
+        let (_, sharp) = render(&cloud, &format!("sharp-{axis}"), &[]);
+        let (_, blurred) = render(&cloud, &format!("blurred-{axis}"), &flags);
+        type Line = fn(&[f32], usize) -> Vec<f32>;
+        let (along, across): (Line, Line) = match axis {
+            "x" => (row, column),
+            _ => (column, row),
+        };
+        let (mid_along, mid_across) = if axis == "x" {
+            (H / 2, W / 2)
+        } else {
+            (W / 2, H / 2)
+        };
+        let (sharp_partial, sharp_centre) = smear(&along(&sharp, mid_along));
+        let (partial, centre) = smear(&along(&blurred, mid_along));
+        assert!(
+            sharp_partial <= 4,
+            "{axis}: the still film's edges are sharp"
+        );
+        // Two edges, each smeared over the distance travelled.
+        let smeared = partial as f32 / 2.0;
+        assert!(
+            (smeared - want).abs() <= 2.0,
+            "{axis}: each edge smeared over {smeared} px along the motion, expected {want:.1}"
+        );
+        // A centred shutter: the streak is centred where the frame holds the film.
+        assert!(
+            (centre - sharp_centre).abs() <= 0.75,
+            "{axis}: the streak's centre moved from {sharp_centre} to {centre}"
+        );
+        // Across the motion: as sharp as the still film.
+        let (across_partial, _) = smear(&across(&blurred, mid_across));
+        let (sharp_across, _) = smear(&across(&sharp, mid_across));
+        eprintln!(
+            "{axis}: edges smeared {smeared} px (expected {want:.1}, still {sharp_partial}), \
+             centre {centre:.2} (still {sharp_centre:.2}), across {across_partial} (still {sharp_across})"
+        );
+        assert!(
+            across_partial <= sharp_across + 1,
+            "{axis}: smeared across the motion ({across_partial} px, still {sharp_across})"
+        );
+    }
+}
+
+#[test]
+fn a_closed_shutter_is_the_unblurred_image() {
+    let cloud = ply("closed.ply", ["1", "0", "0"]);
+    let (sharp, _) = render(&cloud, "closed-none", &[]);
+    let (closed, _) = render(&cloud, "closed-zero", &["--shutter", "0"]);
+    assert!(sharp == closed, "--shutter 0 changed the image");
+}
+
+/// Runs a render expecting a refusal: exit 2, one line containing every one of `needles`, no
+/// output written.
+fn refused(cloud: &Path, flags: &[&str], needles: &[&str]) {
+    let png = tmp("refused.png");
+    let _ = std::fs::remove_file(&png);
+    let mut args = vec![
+        "render",
+        cloud.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+    ];
+    args.extend_from_slice(&["--size", "64x48", "--spp", "1"]);
+    args.extend_from_slice(flags);
+    let (code, out, err) = filmsplat(&args);
+    assert_eq!(code, 2, "{flags:?}: {err}");
+    assert!(out.is_empty());
+    assert_eq!(err.trim().lines().count(), 1, "{flags:?}: one line: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{flags:?}: {n} missing from {err}");
+    }
+    assert!(!png.exists(), "{flags:?}: an image was written");
+}
+
+#[test]
+fn bad_shutters_and_velocities_are_refused_before_rendering() {
+    let cloud = ply("bad.ply", ["1", "0", "0"]);
+    let t = ["--frame-time", "0.02"];
+    refused(
+        &cloud,
+        &["--shutter", "1.5", t[0], t[1]],
+        &["shutter", "1.5"],
+    );
+    refused(&cloud, &["--shutter", "-0.1", t[0], t[1]], &["shutter"]);
+    refused(
+        &cloud,
+        &["--shutter", "nan", t[0], t[1]],
+        &["shutter", "NaN"],
+    );
+    refused(&cloud, &["--shutter", "0.5"], &["--frame-time"]);
+    refused(&cloud, &["--shutter", "0.5", t[0], "0"], &["frame_time"]);
+    refused(
+        &cloud,
+        &["--shutter", "0.5", t[0], t[1], "--shutter-slices", "0"],
+        &["shutter_slices"],
+    );
+    let flags = ["--shutter", "0.5", t[0], t[1]];
+    let mut thickness_view = flags.to_vec();
+    thickness_view.extend_from_slice(&["--view", "thickness"]);
+    refused(&cloud, &thickness_view, &["shaded"]);
+    let nan = ply("nan-velocity.ply", ["1", "nan", "0"]);
+    refused(
+        &nan,
+        &flags,
+        &["nan-velocity.ply", "particle 0", "velocity"],
+    );
+    // A cloud without a velocity: the file and what it holds are named.
+    let still = tmp("still.ply");
+    std::fs::write(
+        &still,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nproperty float pressure\nend_header\n0 0 0 1\n1 0 0 1\n0 1 0 1\n",
+    )
+    .unwrap();
+    refused(&still, &flags, &["still.ply", "velocity", "pressure"]);
+}
