@@ -45,6 +45,17 @@ pub const TABLE: &[(&str, How)] = &[
         "filmsplat render 'frames/frame_{:04}.ply' --frames 0..3 --orbit 30 -o 'spin/{:04}.png'",
         Small,
     ),
+    // sequences: motion blur
+    (
+        "filmsplat render tests/data/thin-film-sph/bursting_bubble/snapshot/100 --shutter 0.5 --frame-time 0.02 -o blurred.png",
+        Instead(
+            "filmsplat render tests/data/thin-film-sph/bursting_bubble/snapshot/100 --shutter 0.5 --frame-time 0.02 -o blurred.png --size 64x48 --spp 2",
+        ),
+    ),
+    (
+        "farm-bench -n 5 --vs 'filmsplat render snapshot/50 -o sharp.png --size 320x180 --spp 8 --quiet' -- filmsplat render snapshot/50 -o blur.png --size 320x180 --spp 8 --quiet --shutter 0.5 --frame-time 0.02",
+        NotRun("a benchmark: farm-bench times whole runs on the real frames of /work/shared"),
+    ),
     (
         "filmsplat render path.toml --frames 0..48 -o 'path/{:04}.png'",
         Instead(
