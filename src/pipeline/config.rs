@@ -12,7 +12,7 @@
 
 pub use super::environment_config::EnvironmentConfig;
 pub use super::image_size::image_size;
-pub use super::motion::ShutterConfig;
+pub use super::shutter::ShutterConfig;
 use crate::geometry::Primitive;
 use crate::image::{Grade, ToneMap};
 use crate::optics::check_film_params;

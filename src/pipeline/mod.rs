@@ -54,6 +54,7 @@ pub mod reconstruct;
 mod sample_check;
 pub mod sequence;
 mod shot;
+pub mod shutter;
 pub mod stages;
 mod studio;
 mod visibility;
