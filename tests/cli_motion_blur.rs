@@ -244,3 +244,52 @@ fn bad_shutters_and_velocities_are_refused_before_rendering() {
     .unwrap();
     refused(&still, &flags, &["still.ply", "velocity", "pressure"]);
 }
+
+#[test]
+fn the_scene_file_and_any_thread_count_give_the_same_blur() {
+    let cloud = ply("scene-moving.ply", ["0.6", "0.3", "0"]);
+    let flags = blur_flags();
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let (by_flags, _) = render(&cloud, "by-flags", &flags);
+    let (sharp, _) = render(&cloud, "scene-sharp", &[]);
+    assert!(by_flags != sharp, "the shutter changed nothing");
+    // The same shutter from [render] in a scene file.
+    let scene = tmp("blur.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "[input]\ncloud = \"{}\"\n[render]\nshutter = {SHUTTER}\nframe_time = {FRAME_TIME}\n\
+             shutter_slices = {SLICES}\n",
+            cloud.display()
+        ),
+    )
+    .unwrap();
+    let (by_scene, _) = render(&scene, "by-scene", &[]);
+    assert!(
+        by_scene == by_flags,
+        "[render] shutter differs from --shutter"
+    );
+    // One thread or two: the same picture (each slice's seed is fixed).
+    let png = tmp("one-thread.png");
+    let size = format!("{W}x{H}");
+    let camera = format!("0,0,{DISTANCE}");
+    let fov = FOV_DEG.to_string();
+    let mut args = vec!["--threads", "1", "render", cloud.to_str().unwrap()];
+    args.extend_from_slice(&["-o", png.to_str().unwrap(), "--size", &size, "--spp", "16"]);
+    args.extend_from_slice(&[
+        "--camera",
+        &camera,
+        "--look-at",
+        "0,0,0",
+        "--fov",
+        &fov,
+        "-q",
+    ]);
+    args.extend_from_slice(&flags);
+    let (code, _, err) = filmsplat(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        std::fs::read(&png).unwrap() == by_flags,
+        "one thread differs"
+    );
+}
