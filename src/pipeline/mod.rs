@@ -129,13 +129,14 @@ pub fn prepare_staged(
         .transpose()?;
 
     // Build: the film geometry (and, with an open shutter, the films at each slice's time).
-    let motion = motion_slices(desc, base, &config, &films, &radii, progress)?;
+    let (motion, motion_time) = motion_slices(desc, base, &config, &films, &radii, progress)?;
     if !motion.is_empty() && !droplets.is_empty() {
         notes.push(Note::new(
             "--shutter moves the films only: the droplets are drawn where the frame holds them",
         ));
     }
     let (geometry, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
+    let build_time = build_time + motion_time;
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
     let bounds = geometry
@@ -199,7 +200,8 @@ fn default_shot(config: &RenderConfig, camera: Camera, turn_deg: f32, progress: 
     }
 }
 
-/// With an open shutter, the films at each time slice (see [`motion`]); none otherwise.
+/// With an open shutter, the films at each time slice (see [`motion`]) and the time their
+/// build took; none otherwise.
 fn motion_slices(
     desc: &SceneDesc,
     base: &Path,
@@ -207,9 +209,9 @@ fn motion_slices(
     films: &load::Films,
     radii: &[f32],
     progress: Progress,
-) -> Result<Vec<motion::MotionSlice>> {
+) -> Result<(Vec<motion::MotionSlice>, std::time::Duration)> {
     let Some(shutter) = config.shutter else {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), std::time::Duration::ZERO));
     };
     let source = desc.input.paths().first().map_or_else(
         || "the given cloud".to_string(),
@@ -226,8 +228,8 @@ fn motion_slices(
         &films.clips,
         &times,
     )?;
-    stage.finish(&format!("built {} motion-blur slices", slices.len()));
-    Ok(slices)
+    let took = stage.finish(&format!("built {} motion-blur slices", slices.len()));
+    Ok((slices, took))
 }
 
 /// The film shader `config` asks for.

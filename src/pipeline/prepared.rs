@@ -45,7 +45,7 @@ pub struct Prepared {
     pub load_time: Duration,
     /// Time spent estimating missing normals/radii.
     pub estimate_time: Duration,
-    /// Time spent building the acceleration structure.
+    /// Time spent building the acceleration structure (with an open shutter, every slice's).
     pub build_time: Duration,
     /// Notes for the user (what was estimated, defaults applied).
     pub notes: Vec<Note>,
