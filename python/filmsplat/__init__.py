@@ -80,6 +80,9 @@ _KNOBS = {
         "wavelengths",
         "strategy",
         "view",
+        "shutter",
+        "frame_time",
+        "shutter_slices",
     ),
     "output": ("exposure", "tonemap", "white_balance", "gains", "contrast", "saturation"),
 }
