@@ -261,3 +261,27 @@ def test_rendering_releases_the_gil(shell_cloud):
         sys.setswitchinterval(interval)
     assert len(seen) >= 2
     assert seen[-1] - seen[0] > 5
+
+
+def test_shutter_knobs_blur_as_the_cli_does(tmp_path):
+    # A square film of disks moving along +x at 1 unit/s.
+    rows = [
+        f"{-0.5 + 0.05 * i} {-0.5 + 0.05 * j} 0 0 0 1 0.04 400 1 0 0"
+        for i in range(21)
+        for j in range(21)
+    ]
+    head = "ply\nformat ascii 1.0\nelement vertex %d\n" % len(rows) + "".join(
+        f"property float {p}\n"
+        for p in ("x", "y", "z", "nx", "ny", "nz", "radius", "thickness", "velocity_x", "velocity_y", "velocity_z")
+    )
+    ply = tmp_path / "moving.ply"
+    ply.write_text(head + "end_header\n" + "\n".join(rows) + "\n")
+    cli_png, py_png, sharp_png = tmp_path / "cli.png", tmp_path / "py.png", tmp_path / "sharp.png"
+    size = ("--size", "64x48", "--spp", "8", "--quiet")
+    filmsplat.cli("render", ply, *size, "--shutter", "1", "--frame-time", "0.5", "-o", cli_png)
+    filmsplat.Scene(str(ply), width=64, height=48, spp=8, shutter=1.0, frame_time=0.5).render().save(py_png)
+    filmsplat.Scene(str(ply), width=64, height=48, spp=8).render().save(sharp_png)
+    assert py_png.read_bytes() == cli_png.read_bytes()
+    assert py_png.read_bytes() != sharp_png.read_bytes()
+    with pytest.raises(ValueError, match="frame_time"):
+        filmsplat.Scene(str(ply), width=64, height=48, spp=8, shutter=0.5)
