@@ -120,6 +120,7 @@ pub fn prepare_staged(
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (mut films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
+    let kept = loaded.kept;
     let liquid = loaded.liquid;
     let radii = films.radii(&config.film);
     let attribute = config
@@ -129,12 +130,7 @@ pub fn prepare_staged(
         .transpose()?;
 
     // Build: the film geometry (and, with an open shutter, the films at each slice's time).
-    let (motion, motion_time) = motion_slices(desc, base, &config, &films, &radii, progress)?;
-    if !motion.is_empty() && !droplets.is_empty() {
-        notes.push(Note::new(
-            "--shutter moves the films only: the droplets are drawn where the frame holds them",
-        ));
-    }
+    let (mut motion, motion_time) = motion_slices(desc, base, &config, &films, &radii, progress)?;
     let (geometry, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
     let build_time = build_time + motion_time;
 
@@ -152,6 +148,9 @@ pub fn prepare_staged(
     let n_droplets = droplets.len();
     staging.droplets = droplets;
     staging.liquid = liquid;
+    let mut said = Vec::new();
+    motion::move_droplets(&mut motion, &kept, &staging, &mut said)?;
+    notes.extend(said.into_iter().map(Note::new));
     let shader = film_shader(&config);
     // A turntable's frame: the light turns with the camera (turned once here, from the
     // environment as prepared, for every render of the default shot).
@@ -265,6 +264,8 @@ fn build_geometry(
 struct Loaded {
     films: load::Films,
     drops: Vec<PointCloud>,
+    /// The droplet clouds drawn as droplets, with an open shutter (empty otherwise).
+    kept: Vec<PointCloud>,
     droplets: crate::geometry::Droplets,
     liquid: crate::geometry::LiquidSurface,
     load_time: std::time::Duration,
@@ -309,6 +310,12 @@ fn load(
     foam::merge_walls(&mut films, notes);
     let (kept, liquid) = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
+    // Kept for motion blur's slices only (they move the droplets too).
+    let kept = if config.shutter.is_some() {
+        kept
+    } else {
+        Vec::new()
+    };
     if films.is_empty() && droplets.is_empty() && liquid.is_empty() {
         return Err(load::nothing_loaded(desc, base));
     }
@@ -320,6 +327,7 @@ fn load(
     ));
     Ok(Loaded {
         films,
+        kept,
         drops,
         droplets,
         liquid,
