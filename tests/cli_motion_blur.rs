@@ -215,14 +215,14 @@ fn bad_shutters_and_velocities_are_refused_before_rendering() {
     refused(
         &cloud,
         &["--shutter", "nan", t[0], t[1]],
-        &["shutter", "NaN"],
+        &["--shutter", "not a finite number"],
     );
     refused(&cloud, &["--shutter", "0.5"], &["--frame-time"]);
     refused(&cloud, &["--shutter", "0.5", t[0], "0"], &["frame_time"]);
     refused(
         &cloud,
         &["--shutter", "0.5", t[0], t[1], "--shutter-slices", "0"],
-        &["shutter_slices"],
+        &["--shutter-slices", "1..=256"],
     );
     let flags = ["--shutter", "0.5", t[0], t[1]];
     let mut thickness_view = flags.to_vec();

@@ -173,15 +173,15 @@ pub struct RenderArgs {
     /// centred on the frame's time. The film particles move along their stored velocity
     /// (velocity, v or V with x, y, z components, scene units per simulation second); needs
     /// --frame-time. The shaded view only.
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = super::parse::finite_f32)]
     pub(super) shutter: Option<f32>,
     /// Simulation seconds between two frames, for --shutter (the simulators do not store it;
     /// e.g. 0.02 for the thin-film SPH code's frame_rate = 50).
-    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true, value_parser = super::parse::finite_f32)]
     pub(super) frame_time: Option<f32>,
     /// Time slices of the open shutter (1..=256, default 8, at most --spp): each is rendered
     /// with its share of the samples from its own geometry, and the pictures averaged.
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", value_parser = super::parse::int_in::<u32>(1, 256))]
     pub(super) shutter_slices: Option<u32>,
     /// Drop particles with non-finite positions or bad thickness and re-estimate bad normals
     /// and radii (says how many), instead of refusing the file.
