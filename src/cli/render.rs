@@ -11,6 +11,11 @@ use std::path::{Path, PathBuf};
 
 /// Runs `filmsplat render`: one image, or a sequence with --frames.
 pub fn run(a: &RenderArgs, out: &mut dyn Write) -> Result<()> {
+    // --max-memory first, for the whole command: resolving a scene checks the image size
+    // against the allowance, and every reader's allocation checks use it.
+    if let Some(bytes) = a.max_memory {
+        crate::budget::set_allowance(bytes);
+    }
     if a.frames.is_none() {
         for (given, flag) in [(a.fps.is_some(), "--fps"), (a.crf.is_some(), "--crf")] {
             if given {

@@ -66,11 +66,8 @@ fn render_to_stdout(a: &RenderArgs) -> Result<()> {
 /// `progress` says.
 pub(super) fn prepare_frame(a: &RenderArgs, progress: Progress) -> Result<Prepared> {
     let (desc, base) = scene_from_args(a)?;
-    // --max-memory first: resolve checks the image size against the allowance.
-    if let Some(bytes) = a.max_memory {
-        crate::budget::set_allowance(bytes);
-    }
-    // The whole configuration next: the memory estimate below reads the inputs' headers.
+    // The whole configuration first (against the allowance `render::run` set from
+    // --max-memory): the memory estimate below reads the inputs' headers.
     desc.resolve(&base)?;
     let output = output_path(a, &desc, &base);
     // A movie's frame writes no file of its own (`--exr` is refused with a movie).

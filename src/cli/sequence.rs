@@ -27,10 +27,7 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let out_pattern = output.to_string_lossy().into_owned();
     let still = check_patterns(a, output, movie.is_some())?;
     // A mistake in the scene or flags is refused before any frame is read (the image size
-    // against --max-memory's allowance too).
-    if let Some(bytes) = a.max_memory {
-        crate::budget::set_allowance(bytes);
-    }
+    // against --max-memory's allowance too, set by `render::run`).
     let (first, first_base) = scene_from_args(&with_frame(a, frames[0]))?;
     first.resolve(&first_base).map_err(|e| first.locate(e))?;
     let opts = SequenceOptions {
