@@ -243,6 +243,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
         stored,
     ));
     parts.extend(droplets);
+    super::placeholder::drop_placeholder_film(&mut parts);
     Ok(parts)
 }
 

@@ -36,6 +36,7 @@ mod num;
 pub mod obj;
 mod part;
 mod peek;
+pub mod placeholder;
 pub mod ply;
 pub mod pvd;
 mod read;

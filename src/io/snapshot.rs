@@ -76,6 +76,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
             });
         }
     }
+    super::placeholder::drop_placeholder_film(&mut parts);
     Ok(parts)
 }
 

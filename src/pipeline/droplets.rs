@@ -17,7 +17,8 @@
 use crate::Result;
 use crate::io::{CloudPart, PartKind, ReadOptions, read_parts};
 use crate::pointcloud::droplet_size::{
-    VolumeSource, film_particle_volume, radii_from_mass, spacing_radius, volume_radius,
+    VolumeSource, film_particle_volume, radii_from_mass, spacing_radius, stored_droplet_volume,
+    volume_radius,
 };
 use std::path::{Path, PathBuf};
 
@@ -69,9 +70,7 @@ pub fn size_droplets(input: &Path, parts: &mut [CloudPart]) {
                 (
                     r,
                     format!(
-                        "{}: water spheres of radius {r:.3e} m, the volume {v:.4e} m³ of a film \
-                         particle ({from}); the simulator turns a film particle into a droplet \
-                         of its mass",
+                        "{}: water spheres of radius {r:.3e} m, the volume {v:.4e} m³ {from}",
                         part.label
                     ),
                 )
@@ -111,7 +110,15 @@ fn run_volume(input: &Path, parts: &[CloudPart]) -> Option<(f64, String)> {
     let (root, frame) = run_of(input);
     let first = run_first_frame(input);
     let described = |(v, src): (f64, VolumeSource), from: &Path| {
-        (v, format!("{src} of the film of {}", from.display()))
+        let from = from.display();
+        let tail = match src {
+            VolumeSource::DropletMass => format!("of a 3D particle ({src} of {from})"),
+            _ => format!(
+                "of a film particle ({src} of the film of {from}); the simulator turns a film \
+                 particle into a droplet of its mass"
+            ),
+        };
+        (v, tail)
     };
     if let Some(first) = first.filter(|f| f != input)
         && let Some(v) = frame_volume(&first)
@@ -187,8 +194,14 @@ fn frame_volume(dir: &Path) -> Option<(f64, VolumeSource)> {
         return None;
     }
     let parts = read_parts(dir, &ReadOptions::default()).ok()?;
-    parts
+    let film = parts
         .iter()
         .filter(|p| p.kind == PartKind::Film)
-        .find_map(|p| film_particle_volume(&p.cloud))
+        .find_map(|p| film_particle_volume(&p.cloud));
+    film.or_else(|| {
+        parts
+            .iter()
+            .filter(|p| p.kind == PartKind::Droplets)
+            .find_map(|p| stored_droplet_volume(&p.cloud))
+    })
 }

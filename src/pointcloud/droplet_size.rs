@@ -44,6 +44,9 @@ pub enum VolumeSource {
     AreaTimesHeight,
     /// The particles' mass over water's density (`m`).
     Mass,
+    /// The 3D (droplet) particles' own stored mass over water's density, where a run has
+    /// no film to take a volume from.
+    DropletMass,
 }
 
 impl std::fmt::Display for VolumeSource {
@@ -51,6 +54,7 @@ impl std::fmt::Display for VolumeSource {
         f.write_str(match self {
             VolumeSource::AreaTimesHeight => "SA·H",
             VolumeSource::Mass => "mass m / 1000 kg/m³",
+            VolumeSource::DropletMass => "3D particles' median mass m / 1000 kg/m³",
         })
     }
 }
@@ -68,6 +72,14 @@ pub fn film_particle_volume(cloud: &PointCloud) -> Option<(f64, VolumeSource)> {
     let m = cloud.extra("m")?;
     median_positive(m.iter().map(|m| f64::from(*m) / WATER_DENSITY_KG_M3))
         .map(|v| (v, VolumeSource::Mass))
+}
+
+/// The median volume (m³) of droplets that store their own mass `m` (kg): m / ρ of water.
+/// `None` without masses.
+pub fn stored_droplet_volume(droplets: &PointCloud) -> Option<(f64, VolumeSource)> {
+    let m = droplets.extra("m")?;
+    median_positive(m.iter().map(|m| f64::from(*m) / WATER_DENSITY_KG_M3))
+        .map(|v| (v, VolumeSource::DropletMass))
 }
 
 /// Each droplet's radius (m) from its own stored mass `m` (kg), if the droplet cloud stores
