@@ -83,13 +83,14 @@ pub(super) fn attribute_values(
 }
 
 /// The film geometry of `cloud` drawn as `film.primitive` with `radii`; `neighbours` is the
-/// estimate's neighbour table, if it built one; `clips`, the disks' edge cuts (empty: none).
+/// estimate's neighbour table, if it built one; `clips`, the disks' edge cuts (empty: none);
+/// `sheets`, each particle's film part, blended on its own by the MLS surface (empty: one).
 pub(super) fn film_geometry(
     film: &FilmConfig,
     cloud: &PointCloud,
     radii: &[f32],
     neighbours: Option<KnnTable>,
-    clips: &[EdgeClip],
+    (clips, sheets): (&[EdgeClip], &[u32]),
 ) -> Result<FilmGeometry> {
     let normals = cloud.normals.as_deref().unwrap_or_default();
     let thickness = cloud.thickness_nm.as_deref().unwrap_or_default();
@@ -136,7 +137,11 @@ pub(super) fn film_geometry(
                     .collect();
                 &cut
             };
-            Ok(MlsSurface::build(positions, n, radii, thickness)?.into())
+            let mut surface = MlsSurface::build(positions, n, radii, thickness)?;
+            if !sheets.is_empty() {
+                surface.set_sheets(sheets)?;
+            }
+            Ok(surface.into())
         }
     }
 }

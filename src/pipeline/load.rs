@@ -152,6 +152,10 @@ pub(super) struct Films {
     /// Each particle's cut at the open edge it lies on (see `pointcloud::clip`), one per
     /// particle of `cloud`; empty when the radii were not fitted.
     pub clips: Vec<EdgeClip>,
+    /// Each particle's film part (its place among the films: a foam's bubble, an input file),
+    /// one per particle of `cloud`; empty for one film. The MLS surface blends each part on its
+    /// own (see `geometry::mls`'s sheets).
+    pub sheets: Vec<u32>,
 }
 
 impl Films {
@@ -203,6 +207,9 @@ pub(super) fn films(
         }
         if single {
             out.neighbours = table;
+        } else {
+            let sheet = clouds.len() as u32;
+            out.sheets.extend(std::iter::repeat_n(sheet, cloud.len()));
         }
         clouds.push(cloud);
     }

@@ -224,7 +224,7 @@ fn motion_slices(
         &films.cloud,
         &velocities,
         radii,
-        &films.clips,
+        (&films.clips, &films.sheets),
         &times,
     )?;
     let took = stage.finish(&format!("built {} motion-blur slices", slices.len()));
@@ -251,8 +251,13 @@ fn build_geometry(
 ) -> Result<(crate::geometry::FilmGeometry, std::time::Duration)> {
     let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
     let neighbours = films.neighbours.take();
-    let geometry =
-        build::film_geometry(&config.film, &films.cloud, radii, neighbours, &films.clips)?;
+    let geometry = build::film_geometry(
+        &config.film,
+        &films.cloud,
+        radii,
+        neighbours,
+        (&films.clips, &films.sheets),
+    )?;
     let build_time = stage.finish(&format!(
         "built the {geometry} geometry of {} particles",
         stages::thousands(films.cloud.len())

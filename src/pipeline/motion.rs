@@ -152,7 +152,7 @@ pub(super) fn slices(
     cloud: &PointCloud,
     velocities: &[Vec3],
     radii: &[f32],
-    clips: &[EdgeClip],
+    parts: (&[EdgeClip], &[u32]),
     times_s: &[f32],
 ) -> Result<Vec<MotionSlice>> {
     times_s
@@ -161,7 +161,7 @@ pub(super) fn slices(
             let moved = moved(cloud, velocities, t);
             Ok(MotionSlice {
                 time_s: t,
-                geometry: build::film_geometry(film, &moved, radii, None, clips)?,
+                geometry: build::film_geometry(film, &moved, radii, None, parts)?,
                 staging: None,
             })
         })

@@ -10,6 +10,10 @@
 //!   particles themselves, and the neighbours' normals must agree (|Σ wᵢ nᵢ| ≥ ½ Σ wᵢ). So the
 //!   open edge of a film stays where its particles end, holes stay open and sparse stray
 //!   particles do not grow a surface.
+//! * **Sheets.** Films that meet without joining smoothly (a foam's walls, one particle set per
+//!   bubble, oriented per bubble) can be labelled as sheets ([`MlsSurface::set_sheets`]): f
+//!   then blends one sheet's particles at a time, so the walls run into their junctions instead
+//!   of cancelling there (the `sheets` module).
 //! * **Rays** (Adamson & Alexa 2003, "Ray tracing point set surfaces"): the surface lies inside
 //!   the union of the support spheres. A near-first BVH query collects the spheres the ray
 //!   crosses within a few support radii of the first one (more only if needed); they are
@@ -18,7 +22,8 @@
 //!   band where covering particles' planes disagree in sign (the `band` module; a few
 //!   hundredths of a spacing for a smooth film): the approach to a film and the way out of it
 //!   cost no evaluation of f. The band is marched with steps of 0.9|f| (f is distance-like)
-//!   bounded to 0.05–1 particle radii, a sign change is refined by bracketed Illinois regula
+//!   bounded to 0.05–1 particle radii, up to its end (f's value there bounds nothing: where the
+//!   weight fades, beside another wall, f may jump), a sign change is refined by bracketed Illinois regula
 //!   falsi to 10⁻³ radii, and a local minimum of |f| between samples is checked for a grazing
 //!   double crossing (so grazing rays do not tunnel).
 //! * **Continued rays.** A per-thread buffer keeps the spheres gathered for the last query; a
@@ -30,6 +35,7 @@
 mod band;
 mod field;
 mod gathered;
+mod sheets;
 mod trace;
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -114,6 +120,8 @@ pub struct MlsSurface {
     /// Distinct per build (clones share it): names the surface a thread's kept support spheres
     /// belong to.
     id: u64,
+    /// Each slot's sheet (empty: one sheet; see [`MlsSurface::set_sheets`]).
+    sheets: Vec<u32>,
 }
 
 /// Source of [`MlsSurface`] ids.
@@ -187,6 +195,7 @@ impl MlsSurface {
             params,
             weight_threshold: 0.0,
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+            sheets: Vec::new(),
         };
         surface.weight_threshold = params.min_weight * surface.median_particle_weight();
         Ok(surface)
@@ -242,6 +251,7 @@ impl MlsSurface {
     fn sample_at(&self, x: Vec3) -> Option<field::FieldSample> {
         let mut c = Vec::new();
         self.neighbours(x, &mut c);
+        self.keep_heaviest_sheet(x, &mut c);
         field::sample(&c, x, 0.0)
     }
 
@@ -305,7 +315,9 @@ impl MlsSurface {
 
     /// Heap bytes held (particles, BVH nodes, slot order).
     pub fn memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.particles.capacity() * std::mem::size_of::<MlsParticle>()
+        self.bvh.memory_bytes()
+            + self.particles.capacity() * std::mem::size_of::<MlsParticle>()
+            + self.sheets.capacity() * 4
     }
 }
 

@@ -59,7 +59,7 @@ impl MlsSurface {
                     g.window = self.gather(ray, from, t_max, &mut g.cands);
                     (g.key, g.from) = (Some(key), from);
                 }
-                match self.march_all(ray, &mut g.cands, g.window) {
+                match self.march_sheets(ray, &mut g.cands, g.window) {
                     Ok(Some(hit)) => return Some(hit),
                     Ok(None) if g.window < t_max && g.window > from => from = g.window,
                     Ok(None) => return None,
@@ -70,7 +70,7 @@ impl MlsSurface {
                             g.cands.extend(self.clipped(ray, s, start, t_max));
                         });
                         (g.from, g.window) = (start, t_max);
-                        return self.march_all(ray, &mut g.cands, t_max).ok().flatten();
+                        return self.march_sheets(ray, &mut g.cands, t_max).ok().flatten();
                     }
                 }
             }
@@ -117,7 +117,7 @@ impl MlsSurface {
     /// time, returning the first valid crossing; inside each piece only the band where the
     /// tangent planes allow a crossing is marched. Only intervals ending by `complete` are known
     /// to hold all their spheres: reaching one that does not gives `Err(its start)`.
-    fn march_all(
+    pub(super) fn march_all(
         &self,
         ray: &Ray,
         cands: &mut [Cand],
@@ -190,7 +190,12 @@ impl MlsSurface {
                         && t < s1
                     {
                         if (e.1 < 0.0) == (f < 0.0) {
-                            if STEP_OF_F * (f.abs() + e.1.abs()) >= s1 - t {
+                            // Only the bound from this sample is trusted: f is about a distance
+                            // near its zeros, but not where the weight fades out, and the end of
+                            // a support interval may lie past such a seam (a wall's edge beside
+                            // another wall) where f jumps, its size saying nothing of the room
+                            // before it.
+                            if STEP_OF_F * f.abs() >= s1 - t {
                                 break; // no room for a zero before the end
                             }
                         } else if prev.is_none()
