@@ -143,8 +143,10 @@ mod tests {
         }
         let far = [Vec3::new(5.0, 0.0, 0.0)];
         let geometry = DiskGeometry::build(&far, &[Vec3::Z], &[0.1], &[300.0]).unwrap();
-        let mut staging = crate::render::Staging::default();
-        staging.liquid = LiquidSurface::build(&pts, s).unwrap();
+        let staging = crate::render::Staging {
+            liquid: LiquidSurface::build(&pts, s).unwrap(),
+            ..Default::default()
+        };
         World {
             geometry: geometry.into(),
             camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 20.0),
