@@ -3,7 +3,8 @@
 //! falling onto a film: bulk liquid), while those that appear later were shed by a rupture
 //! (spray droplets, drawn at the volume their stored mass holds). Positions alone cannot tell a
 //! packed cloud of fresh spray from a drop; the run's first frame can. Only the count in the
-//! header of frame 0's `tracker_points_3d` is read.
+//! header of frame 0's `tracker_points_3d` is read. A snapshot folder (`run/snapshot/K`) asks
+//! the same run's frame 0 (`run/0`).
 
 use std::path::{Path, PathBuf};
 
@@ -46,9 +47,14 @@ pub(super) fn origin(inputs: &[PathBuf]) -> Origin {
 
 /// The origin for one input.
 fn origin_of(input: &Path) -> Origin {
-    if !matches!(detect_format(input), Ok(CloudFormat::FrameFolder)) {
+    // A snapshot `run/snapshot/K` belongs to the same run as the frame folders `run/K`: the
+    // run's frame 0 tells for it too (a burst's spray in a snapshot is droplets, not a body).
+    if !matches!(
+        detect_format(input),
+        Ok(CloudFormat::FrameFolder | CloudFormat::SnapshotFolder)
+    ) {
         return Origin::Unknown(format!(
-            "{} is not a thin-film SPH frame folder",
+            "{} is not a thin-film SPH frame or snapshot folder",
             input.display()
         ));
     }
@@ -62,5 +68,33 @@ fn origin_of(input: &Path) -> Origin {
         Ok(0) => Origin::Shed(first),
         Ok(n) => Origin::SetUp(first, n),
         Err(e) => Origin::Unknown(format!("frame 0 unreadable ({e})")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_snapshot_asks_its_runs_frame_0() {
+        // run/0 a frame folder without 3D particles; run/snapshot/50 and run/50 of that run.
+        let run = std::env::temp_dir().join(format!("filmsplat-origin-{}", std::process::id()));
+        let touch = |p: PathBuf| {
+            std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+            std::fs::write(p, [0u8; 4]).unwrap();
+        };
+        touch(run.join("0/x_bin"));
+        touch(run.join("50/x_bin"));
+        touch(run.join("snapshot/50/x.bin"));
+        let first = run.join("0");
+        assert_eq!(origin_of(&run.join("50")), Origin::Shed(first.clone()));
+        // Before, a snapshot was "not a frame folder" and positions decided (a burst's spray
+        // became a body of water 46,000 times its stored volume).
+        assert_eq!(origin_of(&run.join("snapshot/50")), Origin::Shed(first));
+        std::fs::remove_dir_all(&run).unwrap();
+        assert!(matches!(
+            origin_of(&run.join("snapshot/50")),
+            Origin::Unknown(_)
+        ));
     }
 }

@@ -112,8 +112,8 @@ pub fn prepare_staged(
     // Resolve: the typed, checked configuration, before anything is read.
     let config = desc.resolve_for(base, cloud.is_some())?;
     let mut notes = Vec::new();
-    // Read before the particles: props' meshes, the environment map (the studio stays where
-    // the default camera's photographer set it: orbits and scene-line cameras light alike).
+    // Read before the particles: props' meshes, the environment map (the studio is set up for
+    // the default camera here; each render rigs it to its own camera, `environment_of`).
     let props = studio::props(&config.props)?;
     let environment = build::environment(&config.environment, Studio::default().view)?;
 
@@ -349,7 +349,7 @@ fn load(
 /// # Errors
 /// As [`crate::render::render`]: a bad size or sample count, [`crate::Error::Cancelled`].
 pub fn render(p: &Prepared, shot: &Shot) -> Result<RenderOutput> {
-    let environment = p.environment(shot.turn_deg);
+    let environment = p.environment_of(shot);
     let height = shot.settings.height;
     let camera = &shot.camera;
     // Droplets smaller than a pixel show their share of it (see render's camera ray).

@@ -81,6 +81,20 @@ impl Prepared {
         }
     }
 
+    /// The light `shot` is rendered in: the built-in studio rigged to the shot's camera
+    /// ([`crate::render::Studio::rigged_to`]: the dark ground behind the subject, the dome
+    /// around, from any camera; an orbit's turn is in its camera already), any other
+    /// environment turned by the shot's `turn_deg` ([`Prepared::environment`]). Costs a copy
+    /// of the studio (a few hundred bytes).
+    pub fn environment_of(&self, shot: &Shot) -> Cow<'_, Environment> {
+        match &self.scene.environment {
+            Environment::Studio(s) => Cow::Owned(Environment::Studio(
+                s.rigged_to(shot.camera.forward(), shot.camera.up()),
+            )),
+            _ => self.environment(shot.turn_deg),
+        }
+    }
+
     /// Adds a note for the user.
     pub fn note(&mut self, text: impl Into<String>) {
         self.notes.push(Note::new(text));

@@ -15,7 +15,7 @@ pub fn colour_visibility_of(p: &Prepared, out: &RenderOutput) -> ColourVisibilit
     let aspect = w as f32 / h.max(1) as f32;
     let shot = &p.shot;
     let camera = &shot.camera;
-    let environment = p.environment(shot.turn_deg);
+    let environment = p.environment_of(shot);
     let backdrop: Vec<[f32; 3]> = (0..w * h)
         .map(|i| {
             let (x, y) = (i % w, i / w);

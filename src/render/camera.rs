@@ -97,6 +97,11 @@ impl Camera {
         self.forward
     }
 
+    /// Unit up vector of the image plane (perpendicular to [`Camera::forward`]).
+    pub fn up(&self) -> Vec3 {
+        self.up
+    }
+
     /// Radius (scene units) of a disk that covers one pixel of an image `height_px` pixels
     /// high at point `p`'s distance along the view direction: 0.75 pixel widths (a pixel's
     /// half-diagonal is 0.71). 0 for a point behind the camera.

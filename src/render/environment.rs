@@ -4,7 +4,7 @@
 //! films) reflected and transmitted. Radiance is linear sRGB, scaled so 1 is a white surface
 //! lit to display white.
 
-use glam::Vec3;
+use glam::{Mat3, Quat, Vec3};
 
 /// A lat-long (equirectangular) environment map: +y is up, the image's centre column looks
 /// toward −z, u grows toward +x (the usual convention of HDR panoramas).
@@ -116,10 +116,12 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 /// reflects every direction, a flat film viewed from above the dome over it. Two soft boxes
 /// add highlights that show the shape.
 ///
-/// The dark ground faces `view` (the default auto-framed camera's viewing direction; the
-/// pipeline keeps it for every camera): directions within [`Studio::GROUND_CONE`] of it,
-/// and, in the azimuths around it, every direction below [`Studio::GROUND_ABOVE_VIEW`] over
-/// the view's elevation (the floor and backdrop wall).
+/// The dark ground faces `view` (the default auto-framed camera's viewing direction):
+/// directions within [`Studio::GROUND_CONE`] of it, and, in the azimuths around it, every
+/// direction below [`Studio::GROUND_ABOVE_VIEW`] over the view's elevation (the floor and
+/// backdrop wall). All of it is set up in the studio's own frame and carried into the scene
+/// by `rig`: a photographer's rig that moves with the camera ([`Studio::rigged_to`]), so
+/// every camera, however high, sees the film as the default camera does.
 #[derive(Debug, Clone)]
 pub struct Studio {
     /// Dark ground radiance straight down, at the horizon and straight up.
@@ -132,6 +134,9 @@ pub struct Studio {
     pub boxes: Vec<SoftBox>,
     /// Multiplier on everything.
     pub intensity: f32,
+    /// World from studio: the rotation that carries the studio (its `view`, boxes and up,
+    /// +y) into the scene. Identity: the default camera's studio.
+    pub rig: Quat,
 }
 
 impl Default for Studio {
@@ -170,6 +175,7 @@ impl Default for Studio {
             view: -Vec3::new(0.35, 0.3, 1.0).normalize(),
             boxes,
             intensity: 1.0,
+            rig: Quat::IDENTITY,
         }
     }
 }
@@ -197,6 +203,32 @@ impl Studio {
         match view.try_normalize() {
             Some(v) => Studio { view: v, ..d },
             None => d,
+        }
+    }
+
+    /// This studio carried along with a camera that looks along `forward` with image up `up`
+    /// (unit, perpendicular; [`crate::render::Camera::forward`] and `up`): the rig turns the
+    /// default camera's frame (looking along the default `view`, up +y) onto the camera's, so
+    /// the dark ground stays behind the subject and the dome around it for a camera at any
+    /// elevation, azimuth or roll. A camera within 1e-5 of the default's frame keeps the
+    /// identity (its pictures exactly as without a rig).
+    pub fn rigged_to(&self, forward: Vec3, up: Vec3) -> Studio {
+        let frame = |f: Vec3, u: Vec3| {
+            let right = f.cross(u).try_normalize()?;
+            Some(Mat3::from_cols(right, right.cross(f), f))
+        };
+        let rig = match (frame(Studio::default().view, Vec3::Y), frame(forward, up)) {
+            (Some(from), Some(to)) => Quat::from_mat3(&(to * from.transpose())).normalize(),
+            _ => Quat::IDENTITY,
+        };
+        let rig = if rig.abs_diff_eq(Quat::IDENTITY, 1e-5) {
+            Quat::IDENTITY
+        } else {
+            rig
+        };
+        Studio {
+            rig,
+            ..self.clone()
         }
     }
 
@@ -228,6 +260,12 @@ impl Studio {
     }
 
     fn radiance(&self, dir: Vec3) -> Vec3 {
+        // Into the studio's own frame.
+        let dir = if self.rig == Quat::IDENTITY {
+            dir
+        } else {
+            self.rig.inverse() * dir
+        };
         let y = dir.y.clamp(-1.0, 1.0);
         let gradient = |g: &[Vec3; 3]| {
             if y < 0.0 {
@@ -292,12 +330,7 @@ impl Environment {
         match self {
             Environment::Uniform(_) => {}
             Environment::Hemispheres { axis, .. } => *axis = q * *axis,
-            Environment::Studio(s) => {
-                s.view = q * s.view;
-                for b in &mut s.boxes {
-                    b.dir = q * b.dir;
-                }
-            }
+            Environment::Studio(s) => s.rig = (q * s.rig).normalize(),
             // radiance(d) looks up phi(d) - rotation; turning by +deg moves phi by -deg.
             Environment::Map(m) => m.rotation -= deg.to_radians(),
         }
@@ -351,6 +384,41 @@ mod tests {
             );
             let r = s.radiance(d.normalize());
             assert!(r.is_finite() && r.min_element() >= 0.0);
+        }
+    }
+
+    #[test]
+    fn a_rigged_studio_shows_every_camera_what_the_default_camera_sees() {
+        let s = Studio::default();
+        let (f0, up0) = (s.view, Vec3::Y.reject_from(s.view).normalize());
+        // The default camera's own frame keeps the identity.
+        assert_eq!(s.rigged_to(f0, up0).rig, Quat::IDENTITY);
+        // Cameras straight down (up: −z), from below, and from the side rolled 90°.
+        for (forward, up) in [
+            (Vec3::NEG_Y, Vec3::NEG_Z),
+            (Vec3::Y, Vec3::Z),
+            (Vec3::X, Vec3::Z),
+        ] {
+            let r = Environment::Studio(s.rigged_to(forward, up));
+            let right = forward.cross(up);
+            let right0 = f0.cross(up0);
+            // Any direction in the camera's frame gets what the default camera's same
+            // direction gets: the dark ground ahead, the dome and boxes where they were.
+            for (a, b, c) in [
+                (0.0, 0.0, 1.0),
+                (0.3, -0.2, 1.0),
+                (0.2, 0.9, 0.1),
+                (-0.5, 0.5, -0.7),
+            ] {
+                let d = (right * a + up * b + forward * c).normalize();
+                let d0 = (right0 * a + up0 * b + f0 * c).normalize();
+                let (x, y) = (r.radiance(d), Environment::Studio(s.clone()).radiance(d0));
+                assert!(
+                    (x - y).length() < 1e-3 * (1.0 + y.length()),
+                    "{forward}: {x} vs {y}"
+                );
+            }
+            assert!(r.radiance(forward).max_element() < 0.1, "{forward}");
         }
     }
 

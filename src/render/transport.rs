@@ -11,8 +11,10 @@
 //! `prop_bounces`. A perfect mirror prop is a specular branch of the tree instead.
 //!
 //! Light reaching a prop through films (shadow and material rays) passes straight through
-//! each film, attenuated by its transmittance `T = 1 − R` at that crossing: the light the
-//! films reflect onto props (their caustics) is left out.
+//! each film, attenuated by its transmittance `T = 1 − R` at that crossing, and straight
+//! through the bulk liquid, attenuated by the Fresnel transmittance `1 − F` of each crossing
+//! of its surface: the light films and water reflect or focus onto props (their caustics) is
+//! left out.
 
 use super::env_sampling::EnvSampler;
 use super::lights::nearest;
@@ -421,8 +423,9 @@ impl<'a> Tracer<'a> {
         self.film_transmittance(l, &ray, t_max, st)
     }
 
-    /// Product of `T = 1 − R` over the film crossings along `ray` before `t_max`; `None` once
-    /// it falls below the branch threshold.
+    /// Product of `T = 1 − R` over the film crossings along `ray` before `t_max`, times the
+    /// liquid's Fresnel transmittance there ([`Tracer::liquid_transmittance`]); `None` once it
+    /// falls below the branch threshold.
     fn film_transmittance<L: Lanes>(
         &self,
         l: &L,
@@ -430,7 +433,8 @@ impl<'a> Tracer<'a> {
         t_max: f32,
         st: &mut PathState,
     ) -> Option<L::C> {
-        let mut tr = L::C::splat(1.0);
+        st.rays += u64::from(!self.scene.staging.liquid.is_empty());
+        let mut tr = L::C::splat(self.liquid_transmittance(ray, t_max)?);
         let mut t = 0.0;
         for _ in 0..self.settings.max_depth {
             st.rays += 1;

@@ -57,6 +57,14 @@ pub const TABLE: &[(&str, How)] = &[
         NotRun("a benchmark: farm-bench times whole runs on the real frames of /work/shared"),
     ),
     (
+        "FILMSPLAT_BENCH_SIZE=320x180 cargo bench --bench colour_visibility -- FRAME...",
+        NotRun("a benchmark over the real frames of /work/shared (FRAME... stands for them)"),
+    ),
+    (
+        "farm-bench -n 5 --timeout 400 --vs 'filmsplat-before render drops_floor.toml -o b.png --quiet' -- filmsplat render drops_floor.toml -o a.png --quiet",
+        NotRun("a benchmark: farm-bench times two builds on a real frame of /work/shared"),
+    ),
+    (
         "filmsplat render path.toml --frames 0..48 -o 'path/{:04}.png'",
         Instead(
             "filmsplat render path.toml --frames 22..26 -o path/{:04}.png --size 64x48 --spp 1",
