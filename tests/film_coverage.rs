@@ -21,7 +21,7 @@ use filmsplat::pointcloud::estimate::median_spacing;
 use filmsplat::pointcloud::knn::PointIndex;
 use filmsplat::samples::{SampleKind, SampleParams};
 use filmsplat::scene::SceneDesc;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -271,4 +271,50 @@ fn a_torn_film_of_a_few_particles_is_drawn_at_their_own_size_and_thickness() {
         "film {far} m from any particle, most {reach} m"
     );
     assert_eq!(off, 0, "{off} crossings outside {lo}..{hi} nm");
+}
+
+#[test]
+fn a_particle_detached_past_a_rupture_is_drawn_at_its_own_size() {
+    // Bursting bubble frame 60: particles whose nearest neighbour lies farther than 1.5 × the
+    // sum of the two particles' area radii √(SA/π) have left the film. Rays along such a
+    // particle's normal, from 1.2 to 3 times its own radius out: none meets a disk of its own
+    // (the fit used to grow it towards the film it left).
+    let (d, cloud) = scene("thin-film-sph/bursting_bubble/60", "disk");
+    let prepared = pipeline::prepare(&d, Path::new(""), false).unwrap();
+    let film = &prepared.scene.geometry;
+    let own: Vec<f32> = cloud
+        .extra("sa")
+        .expect("sa")
+        .iter()
+        .map(|a| (a / std::f32::consts::PI).sqrt())
+        .collect();
+    let index = PointIndex::build(&cloud.positions);
+    let nearest = |x: Vec3, except: u32| index.nearest_excluding(x, 1, except)[0];
+    let normals = cloud.normals.as_ref().unwrap();
+    let (mut detached, mut grown) = (0, 0);
+    for i in 0..cloud.len() {
+        let (j, d) = nearest(cloud.positions[i], i as u32);
+        if d <= 1.5 * (own[i] + own[j as usize]) {
+            continue;
+        }
+        detached += 1;
+        let (p, n) = (cloud.positions[i], normals[i].normalize());
+        let (u, v) = n.any_orthonormal_pair();
+        for k in 0..64 {
+            let ring = own[i] * (1.2 + 1.8 * (k / 16) as f32 / 3.0);
+            let a = k as f32 * 0.39;
+            let x = p + ring * (a.cos() * u + a.sin() * v);
+            let reach = 0.5 * own[i];
+            if let Some(hit) = film.intersect(&Ray::new(x + reach * n, -n), 0.0, 2.0 * reach)
+                && nearest(hit.position, u32::MAX).0 as usize == i
+            {
+                grown += 1;
+            }
+        }
+    }
+    assert!(detached > 0, "frame 60 holds a detached particle");
+    assert_eq!(
+        grown, 0,
+        "{grown} rays past a detached particle's own radius met its disk"
+    );
 }

@@ -9,6 +9,7 @@ use super::prepared::Note;
 pub use super::sample_check::check_sample_params;
 use crate::io::{CloudPart, PartKind, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
+use crate::pointcloud::area::{DETACHED, detached_at_own_size};
 use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
 use crate::pointcloud::gaps::{
     AREA_OVERLAP, FAN_NEIGHBOURS, bound_by_area, fit_radii_clipped, own_radii,
@@ -299,6 +300,17 @@ fn complete(
         let (fit, cut) = fit_radii_clipped(&index, &cloud.positions, normals, r, t, &own);
         notes.push(Note::new(format!("{label}: {fit}")));
         clips = cut;
+        // A particle left past a rupture is drawn at its own size, not grown towards the film.
+        if let Some(t) = table.as_ref().filter(|_| !own.is_empty()) {
+            let detached = detached_at_own_size(r, &own, |i| t.row(i).next());
+            if detached > 0 {
+                notes.push(Note::new(format!(
+                    "{label}: {detached} particles detached from the film (nearest neighbour \
+                     farther than {DETACHED} × both particles' own area radii): drawn at their \
+                     own size, √(SA/π)"
+                )));
+            }
+        }
     }
     Ok((cloud, table, had_radius, clips))
 }
