@@ -14,14 +14,12 @@ pub mod droplet_size;
 pub mod eigen;
 pub mod estimate;
 pub mod gaps;
-pub(crate) mod grid;
 pub mod knn;
 pub mod liquid;
 pub mod mesh;
 pub mod orient;
 pub mod span;
 pub mod stats;
-pub(crate) mod tree;
 pub mod validate;
 pub mod walls;
 
