@@ -109,3 +109,33 @@ fn degenerate_inputs_do_not_panic() {
     assert_eq!(median_spacing(&[Vec3::ONE; 50]), 0.0);
     assert_eq!(nn_distances(&[Vec3::ONE]), vec![f32::INFINITY]);
 }
+
+/// The estimate asked for the radius fit's 12 neighbours on a cloud that lacks only radii
+/// (which need 8): one table of 12 whose radii are those of the 8-neighbour estimate, searched
+/// with an index it hands back for the fit. Fails when `min_k` is ignored (a table of 8) or the
+/// index is not kept.
+#[test]
+fn estimate_widens_its_table_and_shares_its_index_for_the_fit() {
+    use filmsplat::pointcloud::{EstimateOptions, PointCloud, fill_missing_keeping_table};
+    let positions = random_cloud(3000, 5);
+    let cloud = PointCloud {
+        normals: Some(vec![Vec3::Z; positions.len()]),
+        positions,
+        thickness_nm: None,
+        radius: None,
+        extra: Vec::new(),
+    };
+    let opts = EstimateOptions::default();
+    let (mut narrow, mut wide) = (cloud.clone(), cloud);
+    let (_, t8) = fill_missing_keeping_table(&mut narrow, &opts, 0, &mut None);
+    let mut index = None;
+    let (_, t12) = fill_missing_keeping_table(&mut wide, &opts, 12, &mut index);
+    assert_eq!(t8.map(|t| t.k), Some(opts.k_radius));
+    let t12 = t12.expect("a table");
+    assert_eq!(t12.k, 12);
+    assert_eq!(narrow.radius, wide.radius);
+    let index = index.expect("the index kept");
+    assert_eq!(index.len(), wide.len());
+    let again = KnnTable::build_with(&index, &wide.positions, 12);
+    assert_eq!((again.idx, again.dist), (t12.idx, t12.dist));
+}

@@ -260,7 +260,10 @@ fn complete(
         default_thickness_nm: film.default_thickness_nm,
         ..EstimateOptions::default()
     };
-    let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate);
+    // One neighbour index and one table for the estimates and the fit.
+    let mut index = None;
+    let fit_k = if film.fit_radii { FAN_NEIGHBOURS } else { 0 };
+    let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate, fit_k, &mut index);
     notes.push(Note {
         routine: report.filled_nothing(),
         ..Note::new(report.to_string())
@@ -287,7 +290,7 @@ fn complete(
         // estimate's table serves if it has the neighbours; else one whole table is searched
         // (the memory estimate counts it: 96 B a particle), which the disks' first-order
         // detail then reuses, and which parallelises better than slices of rows.
-        let index = PointIndex::build(&cloud.positions);
+        let index = index.unwrap_or_else(|| PointIndex::build(&cloud.positions));
         if table.as_ref().is_none_or(|t| t.k < FAN_NEIGHBOURS) {
             table = Some(KnnTable::build_with(
                 &index,

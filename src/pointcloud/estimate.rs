@@ -351,7 +351,7 @@ impl EstimateReport {
 /// present ones take the sign of their neighbours' input normals. One kNN table with
 /// k = max(k_normals, k_radius) serves both estimates. Cost: see [`estimate_normals_detailed`].
 pub fn fill_missing(cloud: &mut PointCloud, opts: &EstimateOptions) -> EstimateReport {
-    fill_missing_keeping_table(cloud, opts).0
+    fill_missing_keeping_table(cloud, opts, 0, &mut None).0
 }
 
 /// Drops normals or radii whose count does not match the particles', with a note.
@@ -378,10 +378,14 @@ fn drop_mismatched(cloud: &mut PointCloud, report: &mut EstimateReport) {
 }
 
 /// [`fill_missing`], also handing back the kNN table it built (if it needed one), so a caller
-/// that needs neighbours too (e.g. the curvature estimate) does not search them again.
+/// that needs neighbours too (e.g. the curvature estimate, the radius fit) does not search
+/// them again: the table then holds at least `min_k` a row (the estimates read the nearest
+/// ones, the same), searched with `index` (built into it if `None`, kept for the caller).
 pub fn fill_missing_keeping_table(
     cloud: &mut PointCloud,
     opts: &EstimateOptions,
+    min_k: usize,
+    index: &mut Option<PointIndex>,
 ) -> (EstimateReport, Option<KnnTable>) {
     let n = cloud.len();
     let mut report = EstimateReport {
@@ -407,7 +411,10 @@ pub fn fill_missing_keeping_table(
         (false, true) => k_r,
         (false, false) => 0,
     };
-    let table = (k > 0 && n > 0).then(|| KnnTable::build(&cloud.positions, k));
+    let table = (k > 0 && n > 0).then(|| {
+        let index = index.get_or_insert_with(|| PointIndex::build(&cloud.positions));
+        KnnTable::build_with(index, &cloud.positions, k.max(min_k))
+    });
     if let Some(t) = &table {
         report.median_spacing = median_positive((0..n).filter_map(|i| t.kth_distance(i, 1)));
     }
