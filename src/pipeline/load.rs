@@ -303,19 +303,30 @@ fn complete(
         let (fit, cut) = fit_radii_clipped(&index, &cloud.positions, normals, r, t, &own);
         notes.push(Note::new(format!("{label}: {fit}")));
         clips = cut;
-        // A particle left past a rupture is drawn at its own size, not grown towards the film.
-        if let Some(t) = table.as_ref().filter(|_| !own.is_empty()) {
-            let detached = detached_at_own_size(r, &own, |i| t.row(i).next());
-            if detached > 0 {
-                notes.push(Note::new(format!(
-                    "{label}: {detached} particles detached from the film (nearest neighbour \
-                     farther than {DETACHED} × both particles' own area radii): drawn at their \
-                     own size, √(SA/π)"
-                )));
-            }
-        }
+        trim_detached(&label, r, &own, table.as_ref(), notes);
     }
     Ok((cloud, table, had_radius, clips))
+}
+
+/// A particle left past a rupture is drawn at its own size, not grown towards the film
+/// ([`detached_at_own_size`], from each particle's nearest neighbour in `table`).
+fn trim_detached(
+    label: &str,
+    radii: &mut [f32],
+    own: &[f32],
+    table: Option<&KnnTable>,
+    notes: &mut Vec<Note>,
+) {
+    let Some(t) = table.filter(|_| !own.is_empty()) else {
+        return;
+    };
+    let detached = detached_at_own_size(radii, own, |i| t.row(i).next());
+    if detached > 0 {
+        notes.push(Note::new(format!(
+            "{label}: {detached} particles detached from the film (nearest neighbour farther \
+             than {DETACHED} × both particles' own area radii): drawn at their own size, √(SA/π)"
+        )));
+    }
 }
 
 /// A thickness certainly in another unit would render a blank (or white) film: refused, unless
