@@ -46,6 +46,7 @@ mod load;
 mod melp_sets;
 pub mod memory;
 pub mod motion;
+mod motion_staging;
 mod output;
 pub mod pinholes;
 mod prepared;
@@ -120,7 +121,7 @@ pub fn prepare_staged(
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (mut films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
-    let kept = loaded.kept;
+    let (kept, liquid_index) = (loaded.kept, loaded.liquid_index);
     let liquid = loaded.liquid;
     let radii = films.radii(&config.film);
     let attribute = config
@@ -149,7 +150,12 @@ pub fn prepare_staged(
     staging.droplets = droplets;
     staging.liquid = liquid;
     let mut said = Vec::new();
-    motion::move_droplets(&mut motion, &kept, &staging, &mut said)?;
+    let moving = motion_staging::Moving {
+        kept: &kept,
+        drops: &drops,
+        liquid: &liquid_index,
+    };
+    motion_staging::move_staging(&mut motion, &moving, &staging, &mut said)?;
     notes.extend(said.into_iter().map(Note::new));
     let shader = film_shader(&config);
     // A turntable's frame: the light turns with the camera (turned once here, from the
@@ -216,7 +222,11 @@ fn motion_slices(
         || "the given cloud".to_string(),
         |p| base.join(p).display().to_string(),
     );
-    let velocities = motion::velocities(&films.cloud, &source)?;
+    // No films (droplets or liquid only): nothing of theirs to move.
+    let velocities = match films.cloud.is_empty() {
+        true => Vec::new(),
+        false => motion::velocities(&films.cloud, &source)?,
+    };
     let times = shutter.times_s(config.settings.spp);
     let stage = progress.start(&format!("building {} motion-blur slices", times.len()));
     let slices = motion::slices(
@@ -268,6 +278,8 @@ struct Loaded {
     kept: Vec<PointCloud>,
     droplets: crate::geometry::Droplets,
     liquid: crate::geometry::LiquidSurface,
+    /// The liquid surface's particles, indices into `drops`' particles taken in order.
+    liquid_index: Vec<usize>,
     load_time: std::time::Duration,
     estimate_time: std::time::Duration,
 }
@@ -308,7 +320,11 @@ fn load(
     let repairing = desc.input.repair == Some(true);
     let (mut films, drops) = load::split(parts, repairing, notes)?;
     foam::merge_walls(&mut films, notes);
-    let (kept, liquid) = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
+    let liquid::Split {
+        kept,
+        surface: liquid,
+        liquid: liquid_index,
+    } = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
     // Kept for motion blur's slices only (they move the droplets too).
     let kept = if config.shutter.is_some() {
@@ -331,6 +347,7 @@ fn load(
         drops,
         droplets,
         liquid,
+        liquid_index,
         load_time,
         estimate_time,
     })
