@@ -131,8 +131,14 @@ pub fn prepare_staged(
         .transpose()?;
 
     // Build: the film geometry (and, with an open shutter, the films at each slice's time).
-    let (mut motion, motion_time) = motion_slices(desc, base, &config, &films, &radii, progress)?;
-    let (geometry, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
+    let (geometry, detail, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
+    let unmoved = Unmoved {
+        films: &films,
+        radii: &radii,
+        detail: detail.as_ref(),
+    };
+    let (mut motion, motion_time) = motion_slices(desc, base, &config, &unmoved, progress)?;
+    drop(detail);
     let build_time = build_time + motion_time;
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
@@ -211,10 +217,10 @@ fn motion_slices(
     desc: &SceneDesc,
     base: &Path,
     config: &RenderConfig,
-    films: &load::Films,
-    radii: &[f32],
+    unmoved: &Unmoved,
     progress: Progress,
 ) -> Result<(Vec<motion::MotionSlice>, std::time::Duration)> {
+    let films = unmoved.films;
     let Some(shutter) = config.shutter else {
         return Ok((Vec::new(), std::time::Duration::ZERO));
     };
@@ -233,7 +239,7 @@ fn motion_slices(
         &config.film,
         &films.cloud,
         &velocities,
-        radii,
+        (unmoved.radii, unmoved.detail),
         &films.clips,
         &times,
     )?;
@@ -251,23 +257,43 @@ fn film_shader(config: &RenderConfig) -> FilmShader {
     )
 }
 
-/// Build: the film geometry of the completed films (their neighbour table handed on), timed
-/// and shown as a progress stage.
+/// The unmoved films motion blur's slices start from: the completed films, their radii and
+/// their disks' first-order detail.
+struct Unmoved<'a> {
+    films: &'a load::Films,
+    radii: &'a [f32],
+    detail: Option<&'a build::Detail>,
+}
+
+/// Build: the film geometry of the completed films (their neighbour table handed on to the
+/// disks' detail), timed and shown as a progress stage; the detail is handed back with an open
+/// shutter (its slices share it), dropped otherwise.
 fn build_geometry(
     config: &RenderConfig,
     films: &mut load::Films,
     radii: &[f32],
     progress: Progress,
-) -> Result<(crate::geometry::FilmGeometry, std::time::Duration)> {
+) -> Result<(
+    crate::geometry::FilmGeometry,
+    Option<build::Detail>,
+    std::time::Duration,
+)> {
     let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
     let neighbours = films.neighbours.take();
-    let geometry =
-        build::film_geometry(&config.film, &films.cloud, radii, neighbours, &films.clips)?;
+    let detail = build::film_detail(&config.film, &films.cloud, radii, neighbours);
+    let geometry = build::film_geometry(
+        &config.film,
+        &films.cloud,
+        radii,
+        detail.as_ref(),
+        &films.clips,
+    )?;
     let build_time = stage.finish(&format!(
         "built the {geometry} geometry of {} particles",
         stages::thousands(films.cloud.len())
     ));
-    Ok((geometry, build_time))
+    let detail = detail.filter(|_| config.shutter.is_some());
+    Ok((geometry, detail, build_time))
 }
 
 /// The scene's particles, loaded and completed.

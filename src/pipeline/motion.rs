@@ -98,12 +98,13 @@ pub(super) fn moved(cloud: &PointCloud, v: &[Vec3], t: f32) -> PointCloud {
 }
 
 /// The films at each time of `times_s`: positions moved by velocity × time, everything else
-/// as on the unmoved cloud; one geometry each.
+/// (radii, the disks' first-order `detail`, normals, thickness, edge cuts) as on the unmoved
+/// cloud, so each slice costs only its tree's build; one geometry each.
 pub(super) fn slices(
     film: &FilmConfig,
     cloud: &PointCloud,
     velocities: &[Vec3],
-    radii: &[f32],
+    (radii, detail): (&[f32], Option<&build::Detail>),
     clips: &[EdgeClip],
     times_s: &[f32],
 ) -> Result<Vec<MotionSlice>> {
@@ -113,7 +114,7 @@ pub(super) fn slices(
             let moved = moved(cloud, velocities, t);
             Ok(MotionSlice {
                 time_s: t,
-                geometry: build::film_geometry(film, &moved, radii, None, clips)?,
+                geometry: build::film_geometry(film, &moved, radii, detail, clips)?,
                 staging: None,
             })
         })
