@@ -58,6 +58,7 @@ mod shot;
 pub mod shutter;
 pub mod stages;
 mod studio;
+pub mod velocity_check;
 mod visibility;
 
 pub use config::RenderConfig;
