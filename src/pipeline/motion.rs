@@ -122,9 +122,10 @@ pub(super) fn slices(
 }
 
 /// Renders `world` once per slice (its films replaced by the slice's), the samples shared out
-/// (slice k of K gets spp/K, the first spp mod K one more; a slice left without samples, when
-/// the shot asks fewer samples than there are slices, is skipped) with seed mixed from the
-/// shot's and k, and averages the buffers weighted by samples.
+/// (slice k of K gets spp/K, the first spp mod K one more) with seed mixed from the shot's and
+/// k, and averages the buffers weighted by samples. A shot of fewer samples than slices (the
+/// viewer's one-sample passes) renders spp slices spread evenly over the shutter, one sample
+/// each (one sample: the middle slice, so the picture stays centred on the frame).
 ///
 /// # Errors
 /// As [`crate::render::render`].
@@ -134,13 +135,10 @@ pub(super) fn render(
     shader: &FilmShader,
     settings: &RenderSettings,
 ) -> Result<RenderOutput> {
-    let (k, spp) = (slices.len() as u32, settings.spp);
     let mut sum: Option<RenderOutput> = None;
-    for (i, slice) in (0u32..).zip(slices) {
-        let spp_i = spp / k + u32::from(i < spp % k);
-        if spp_i == 0 {
-            continue;
-        }
+    for (i, spp_i) in shares(slices.len() as u32, settings.spp) {
+        let slice = &slices[i as usize];
+        let spp = settings.spp;
         let s = RenderSettings {
             spp: spp_i,
             seed: crate::mix::mix64(settings.seed ^ crate::mix::mix64(u64::from(i))),
@@ -185,6 +183,17 @@ pub(super) fn render(
     Ok(out)
 }
 
+/// The slices rendered and their samples: (slice, samples) for `k` slices and `spp` samples
+/// (see [`render`]).
+fn shares(k: u32, spp: u32) -> Vec<(u32, u32)> {
+    if spp >= k {
+        return (0..k)
+            .map(|i| (i, spp / k + u32::from(i < spp % k)))
+            .collect();
+    }
+    (0..spp).map(|j| ((2 * j + 1) * k / (2 * spp), 1)).collect()
+}
+
 /// `out` with every mean buffer times `w` (first-hit buffers times `w` × coverage).
 fn scaled(mut out: RenderOutput, w: f32) -> RenderOutput {
     for i in 0..out.alpha.len() {
@@ -214,4 +223,15 @@ fn added(mut acc: RenderOutput, out: &RenderOutput, w: f32) -> RenderOutput {
     }
     acc.rays += out.rays;
     acc
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn samples_are_shared_out_and_few_samples_spread_over_the_shutter() {
+        assert_eq!(super::shares(3, 7), [(0, 3), (1, 2), (2, 2)]);
+        // One sample: the middle slice; two: the middles of each half.
+        assert_eq!(super::shares(8, 1), [(4, 1)]);
+        assert_eq!(super::shares(8, 2), [(2, 1), (6, 1)]);
+    }
 }
