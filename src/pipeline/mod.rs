@@ -122,8 +122,7 @@ pub fn prepare_staged(
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (mut films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
-    let (kept, liquid_index) = (loaded.kept, loaded.liquid_index);
-    let liquid = loaded.liquid;
+    let (kept, liquid_index, liquid) = (loaded.kept, loaded.liquid_index, loaded.liquid);
     let radii = films.radii(&config.film);
     let attribute = config
         .attribute
@@ -133,12 +132,8 @@ pub fn prepare_staged(
 
     // Build: the film geometry (and, with an open shutter, the films at each slice's time).
     let (geometry, detail, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
-    let unmoved = Unmoved {
-        films: &films,
-        radii: &radii,
-        detail: detail.as_ref(),
-    };
-    let (mut motion, motion_time) = motion_slices(desc, base, &config, &unmoved, progress)?;
+    let unmoved = (&films, radii.as_slice(), detail.as_ref());
+    let (mut motion, motion_time) = motion_slices(desc, base, &config, unmoved, progress)?;
     drop(detail);
     let build_time = build_time + motion_time;
 
@@ -156,14 +151,8 @@ pub fn prepare_staged(
     let n_droplets = droplets.len();
     staging.droplets = droplets;
     staging.liquid = liquid;
-    let mut said = Vec::new();
-    let moving = motion_staging::Moving {
-        kept: &kept,
-        drops: &drops,
-        liquid: &liquid_index,
-    };
-    motion_staging::move_staging(&mut motion, &moving, &staging, &mut said)?;
-    notes.extend(said.into_iter().map(Note::new));
+    let moving = (kept.as_slice(), drops.as_slice(), liquid_index.as_slice());
+    move_staging(&mut motion, moving, &staging, &mut notes)?;
     let shader = film_shader(&config);
     // A turntable's frame: the light turns with the camera (turned once here, from the
     // environment as prepared, for every render of the default shot).
@@ -218,10 +207,9 @@ fn motion_slices(
     desc: &SceneDesc,
     base: &Path,
     config: &RenderConfig,
-    unmoved: &Unmoved,
+    (films, radii, detail): Unmoved,
     progress: Progress,
 ) -> Result<(Vec<motion::MotionSlice>, std::time::Duration)> {
-    let films = unmoved.films;
     let Some(shutter) = config.shutter else {
         return Ok((Vec::new(), std::time::Duration::ZERO));
     };
@@ -240,7 +228,7 @@ fn motion_slices(
         &config.film,
         &films.cloud,
         &velocities,
-        (unmoved.radii, unmoved.detail),
+        (radii, detail),
         &films.clips,
         &times,
     )?;
@@ -260,10 +248,25 @@ fn film_shader(config: &RenderConfig) -> FilmShader {
 
 /// The unmoved films motion blur's slices start from: the completed films, their radii and
 /// their disks' first-order detail.
-struct Unmoved<'a> {
-    films: &'a load::Films,
-    radii: &'a [f32],
-    detail: Option<&'a build::Detail>,
+type Unmoved<'a> = (&'a load::Films, &'a [f32], Option<&'a build::Detail>);
+
+/// [`motion_staging::move_staging`] of the droplet clouds `kept`, the droplet parts `drops`
+/// and the liquid's particles `liquid` (indices into `drops`), its notes added to `notes`.
+fn move_staging(
+    motion: &mut [motion::MotionSlice],
+    (kept, drops, liquid): (&[PointCloud], &[PointCloud], &[usize]),
+    staging: &crate::render::Staging,
+    notes: &mut Vec<Note>,
+) -> Result<()> {
+    let mut said = Vec::new();
+    let moving = motion_staging::Moving {
+        kept,
+        drops,
+        liquid,
+    };
+    motion_staging::move_staging(motion, &moving, staging, &mut said)?;
+    notes.extend(said.into_iter().map(Note::new));
+    Ok(())
 }
 
 /// Build: the film geometry of the completed films (their neighbour table handed on to the
