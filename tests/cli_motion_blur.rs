@@ -39,36 +39,38 @@ fn square(path: &Path, velocity: [&str; 3]) {
     std::fs::write(path, head + &rows.join("\n") + "\n").unwrap();
 }
 
+/// The head-on camera of every render here: size, samples, camera, look-at, field of view.
+fn camera_args() -> Vec<String> {
+    let mut a: Vec<String> = ["--size", &format!("{W}x{H}"), "--spp", "16", "--camera"]
+        .map(String::from)
+        .to_vec();
+    a.push(format!("0,0,{DISTANCE}"));
+    a.extend(["--look-at", "0,0,0", "--fov"].map(String::from));
+    a.push(FOV_DEG.to_string());
+    a
+}
+
+/// Runs `filmsplat` with `head` (before the camera's arguments) and `tail` (after), and
+/// expects success.
+fn run(head: &[&str], tail: &[&str]) {
+    let camera = camera_args();
+    let mut args = head.to_vec();
+    args.extend(camera.iter().map(String::as_str));
+    args.extend_from_slice(tail);
+    let (code, _, err) = filmsplat(&args);
+    assert_eq!(code, 0, "{err}");
+}
+
 /// Renders `ply` head-on with `extra` flags; returns the PNG's bytes and the EXR's alpha
 /// (coverage), row-major.
 fn render(ply: &Path, name: &str, extra: &[&str]) -> (Vec<u8>, Vec<f32>) {
     let png = tmp(&format!("{name}.png"));
     let exr = tmp(&format!("{name}.exr"));
-    let size = format!("{W}x{H}");
-    let fov = FOV_DEG.to_string();
-    let camera = format!("0,0,{DISTANCE}");
-    let mut args = vec![
-        "render",
-        ply.to_str().unwrap(),
-        "-o",
-        png.to_str().unwrap(),
-        "--exr",
-        exr.to_str().unwrap(),
-        "--size",
-        &size,
-        "--spp",
-        "16",
-        "--camera",
-        &camera,
-        "--look-at",
-        "0,0,0",
-        "--fov",
-        &fov,
-        "--quiet",
-    ];
-    args.extend_from_slice(extra);
-    let (code, _, err) = filmsplat(&args);
-    assert_eq!(code, 0, "{err}");
+    let (png_s, exr_s) = (png.to_str().unwrap(), exr.to_str().unwrap());
+    let head = ["render", ply.to_str().unwrap(), "-o", png_s, "--exr", exr_s];
+    let mut tail = vec!["--quiet"];
+    tail.extend_from_slice(extra);
+    run(&head, &tail);
     let layers = filmsplat::image::read_exr(&exr).unwrap();
     assert_eq!((layers.width, layers.height), (W, H));
     let alpha = layers.rgba.iter().map(|p| p[3]).collect();
@@ -271,25 +273,63 @@ fn the_scene_file_and_any_thread_count_give_the_same_blur() {
     );
     // One thread or two: the same picture (each slice's seed is fixed).
     let png = tmp("one-thread.png");
-    let size = format!("{W}x{H}");
-    let camera = format!("0,0,{DISTANCE}");
-    let fov = FOV_DEG.to_string();
-    let mut args = vec!["--threads", "1", "render", cloud.to_str().unwrap()];
-    args.extend_from_slice(&["-o", png.to_str().unwrap(), "--size", &size, "--spp", "16"]);
-    args.extend_from_slice(&[
-        "--camera",
-        &camera,
-        "--look-at",
-        "0,0,0",
-        "--fov",
-        &fov,
-        "-q",
-    ]);
-    args.extend_from_slice(&flags);
-    let (code, _, err) = filmsplat(&args);
-    assert_eq!(code, 0, "{err}");
+    let head = ["--threads", "1", "render", cloud.to_str().unwrap()];
+    let mut tail = vec!["-o", png.to_str().unwrap(), "-q"];
+    tail.extend_from_slice(&flags);
+    run(&head, &tail);
     assert!(
         std::fs::read(&png).unwrap() == by_flags,
         "one thread differs"
     );
+}
+
+/// A 3-frame sequence whose frame 2 holds a NaN velocity is refused before frame 0 renders,
+/// naming frame 2's file and the particle; no image and no movie is written.
+#[test]
+fn a_nan_velocity_in_a_later_frame_is_refused_before_any_frame_renders() {
+    let dir = tmp("nan-sequence");
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in 0..3 {
+        let vy = if f == 2 { "nan" } else { "0" };
+        square(&dir.join(format!("f{f}.ply")), ["1", vy, "0"]);
+    }
+    let input = dir.join("f{}.ply");
+    for (name, output) in [
+        ("images", dir.join("out/{}.png")),
+        ("movie", dir.join("m.mp4")),
+    ] {
+        let args = [
+            "render",
+            input.to_str().unwrap(),
+            "--frames",
+            "0..3",
+            "-o",
+            output.to_str().unwrap(),
+            "--size",
+            "64x48",
+            "--spp",
+            "1",
+            "--shutter",
+            "0.5",
+            "--frame-time",
+            "0.02",
+        ];
+        let (code, out, err) = filmsplat(&args);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{name}: one line: {err}");
+        for n in ["frame 2", "f2.ply", "particle 0", "velocity"] {
+            assert!(err.contains(n), "{name}: {n} missing from {err}");
+        }
+        assert!(!out.contains("frame 0"), "{name}: frame 0 rendered: {out}");
+        let written: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| !n.ends_with(".ply"))
+            .collect();
+        let images = std::fs::read_dir(dir.join("out")).map_or(0, |d| d.count());
+        assert!(
+            written.iter().all(|n| n == "out") && images == 0,
+            "{name}: written: {written:?}, {images} images"
+        );
+    }
 }

@@ -43,6 +43,13 @@ pub(super) fn render_sequence(a: &RenderArgs, frames: &[u64], out: &mut dyn Writ
     let mut base = a.clone();
     base.frames = None;
     base.frame_all = false;
+    // With a shutter, every frame of this shard's velocities, before ffmpeg or a frame starts.
+    if !a.keep_going {
+        let mine = crate::pipeline::sequence::sharded(frames, a.shard);
+        crate::pipeline::velocity_check::check_frames(&mine, |f| {
+            scene_from_args(&with_frame(&base, f))
+        })?;
+    }
     let exr_pattern = a.exr.as_ref().map(|e| e.to_string_lossy().into_owned());
     let job = Frames {
         a: base,

@@ -82,14 +82,35 @@ pub(super) fn attribute_values(
     }
 }
 
-/// The film geometry of `cloud` drawn as `film.primitive` with `radii`; `neighbours` is the
-/// estimate's neighbour table, if it built one; `clips`, the disks' edge cuts (empty: none);
+/// First-order splat detail: each disk's curvature and thickness gradient (see [`detail`]).
+pub(super) type Detail = (Vec<f32>, Vec<Vec3>);
+
+/// The first-order detail of `cloud`'s disks with `radii`, when `film` draws disks with it;
+/// `neighbours` is the estimate's neighbour table, if it built one (dropped here, used or not,
+/// so it is gone before a tree's build allocates).
+pub(super) fn film_detail(
+    film: &FilmConfig,
+    cloud: &PointCloud,
+    radii: &[f32],
+    neighbours: Option<KnnTable>,
+) -> Option<Detail> {
+    let wanted = film.primitive == Primitive::Disk && film.first_order_detail && !cloud.is_empty();
+    wanted.then(|| {
+        let normals = cloud.normals.as_deref().unwrap_or_default();
+        let thickness = cloud.thickness_nm.as_deref().unwrap_or_default();
+        detail(&cloud.positions, normals, thickness, radii, neighbours)
+    })
+}
+
+/// The film geometry of `cloud` drawn as `film.primitive` with `radii`; `detail`, the disks'
+/// first-order detail ([`film_detail`]; `None`: flat disks of uniform thickness; motion blur's
+/// slices share their unmoved frame's); `clips`, the disks' edge cuts (empty: none);
 /// `sheets`, each particle's film part, blended on its own by the MLS surface (empty: one).
 pub(super) fn film_geometry(
     film: &FilmConfig,
     cloud: &PointCloud,
     radii: &[f32],
-    neighbours: Option<KnnTable>,
+    detail: Option<&Detail>,
     (clips, sheets): (&[EdgeClip], &[u32]),
 ) -> Result<FilmGeometry> {
     let normals = cloud.normals.as_deref().unwrap_or_default();
@@ -100,15 +121,10 @@ pub(super) fn film_geometry(
     let (positions, n) = (&cloud.positions, normals);
     match film.primitive {
         Primitive::Disk => {
-            // The detail first: the neighbour table (96 B a particle) is dropped here, used or
-            // not, before the tree's build allocates, so the two never add up at the peak.
-            let detail = film
-                .first_order_detail
-                .then(|| detail(positions, n, thickness, radii, neighbours));
             let mut disks = DiskGeometry::build(positions, n, radii, thickness)?;
             if let Some((curvature, gradient)) = detail {
-                disks.set_curvature(&curvature)?;
-                disks.set_thickness_gradient(&gradient)?;
+                disks.set_curvature(curvature)?;
+                disks.set_thickness_gradient(gradient)?;
             }
             if !film.blend {
                 disks.set_layer_blend(LayerBlend::NONE);
@@ -118,12 +134,8 @@ pub(super) fn film_geometry(
             }
             Ok(disks.into())
         }
-        Primitive::Sphere => {
-            drop(neighbours);
-            Ok(SphereGeometry::build(positions, n, radii, thickness)?.into())
-        }
+        Primitive::Sphere => Ok(SphereGeometry::build(positions, n, radii, thickness)?.into()),
         Primitive::Mls => {
-            drop(neighbours);
             // The surface has no cut: an edge particle's support stays within its cut's offset
             // (half a spacing) instead of the radius that covers its cell up to the cut.
             let cut: Vec<f32>;

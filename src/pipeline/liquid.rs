@@ -15,9 +15,31 @@ use crate::geometry::LiquidSurface;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::liquid::classify;
 
+/// The droplet parts split into droplets and bulk liquid.
+pub(super) struct Split {
+    /// The particles that stay droplets: one cloud per part, attributes kept.
+    pub kept: Vec<PointCloud>,
+    /// The liquid bodies' surface.
+    pub surface: LiquidSurface,
+    /// The surface's particles: indices into the droplet parts' particles, taken in order
+    /// (part by part), in the order the surface was built from.
+    pub liquid: Vec<usize>,
+}
+
+impl Split {
+    /// Every particle a droplet.
+    fn none(drops: &[PointCloud]) -> Self {
+        Split {
+            kept: drops.to_vec(),
+            surface: LiquidSurface::default(),
+            liquid: Vec::new(),
+        }
+    }
+}
+
 /// Splits the droplet parts `drops` of the inputs `inputs` (resolved paths; none for a cloud
-/// given in memory) into the particles that stay droplets (one cloud per part, attributes
-/// kept) and the liquid bodies' surface; notes which rule decided and how many went where.
+/// given in memory) into the particles that stay droplets and the liquid bodies' surface;
+/// notes which rule decided and how many went where.
 ///
 /// # Errors
 /// As [`LiquidSurface::build`].
@@ -26,11 +48,11 @@ pub(super) fn split(
     mode: LiquidMode,
     inputs: &[PathBuf],
     notes: &mut Vec<Note>,
-) -> Result<(Vec<PointCloud>, LiquidSurface)> {
+) -> Result<Split> {
     let total: usize = drops.iter().map(PointCloud::len).sum();
     let why = match mode {
-        _ if total == 0 => return Ok((drops.to_vec(), LiquidSurface::default())),
-        LiquidMode::Droplets => return Ok((drops.to_vec(), LiquidSurface::default())),
+        _ if total == 0 => return Ok(Split::none(drops)),
+        LiquidMode::Droplets => return Ok(Split::none(drops)),
         LiquidMode::Surface => "--liquid surface".to_string(),
         LiquidMode::Auto => match origin(inputs) {
             Origin::Shed(first) => {
@@ -39,7 +61,7 @@ pub(super) fn split(
                      drawn as {total} droplets (--liquid surface draws bodies)",
                     first.display()
                 )));
-                return Ok((drops.to_vec(), LiquidSurface::default()));
+                return Ok(Split::none(drops));
             }
             Origin::SetUp(first, n) => format!(
                 "{total} 3D particles present since frame 0 ({} holds {n})",
@@ -52,11 +74,7 @@ pub(super) fn split(
 }
 
 /// [`split`] by the particles' packing ([`classify`]); `why` starts the note.
-fn by_packing(
-    drops: &[PointCloud],
-    why: &str,
-    notes: &mut Vec<Note>,
-) -> Result<(Vec<PointCloud>, LiquidSurface)> {
+fn by_packing(drops: &[PointCloud], why: &str, notes: &mut Vec<Note>) -> Result<Split> {
     let total: usize = drops.iter().map(PointCloud::len).sum();
     let positions: Vec<_> = drops
         .iter()
@@ -67,7 +85,7 @@ fn by_packing(
         notes.push(Note::new(format!(
             "liquid: {why}: no 3D particle packed into a body, {total} droplets"
         )));
-        return Ok((drops.to_vec(), LiquidSurface::default()));
+        return Ok(Split::none(drops));
     }
     let liquid: Vec<_> = split.liquid.iter().map(|&i| positions[i]).collect();
     let surface = LiquidSurface::build(&liquid, split.spacing)?;
@@ -105,7 +123,11 @@ fn by_packing(
         crate::pointcloud::liquid::CORE_NEIGHBOURS,
         crate::pointcloud::liquid::NEIGHBOUR_SPACINGS,
     )));
-    Ok((kept, surface))
+    Ok(Split {
+        kept,
+        surface,
+        liquid: split.liquid,
+    })
 }
 
 /// The particles of `c` where `keep` holds, with every attribute.

@@ -46,6 +46,7 @@ mod load;
 mod melp_sets;
 pub mod memory;
 pub mod motion;
+mod motion_staging;
 mod output;
 pub mod pinholes;
 mod prepared;
@@ -57,6 +58,7 @@ mod shot;
 pub mod shutter;
 pub mod stages;
 mod studio;
+pub mod velocity_check;
 mod visibility;
 
 pub use config::RenderConfig;
@@ -120,8 +122,7 @@ pub fn prepare_staged(
     // Load and estimate: the particles, as completed films and droplets.
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (mut films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
-    let kept = loaded.kept;
-    let liquid = loaded.liquid;
+    let (kept, liquid_index, liquid) = (loaded.kept, loaded.liquid_index, loaded.liquid);
     let radii = films.radii(&config.film);
     let attribute = config
         .attribute
@@ -130,8 +131,10 @@ pub fn prepare_staged(
         .transpose()?;
 
     // Build: the film geometry (and, with an open shutter, the films at each slice's time).
-    let (mut motion, motion_time) = motion_slices(desc, base, &config, &films, &radii, progress)?;
-    let (geometry, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
+    let (geometry, detail, build_time) = build_geometry(&config, &mut films, &radii, progress)?;
+    let unmoved = (&films, radii.as_slice(), detail.as_ref());
+    let (mut motion, motion_time) = motion_slices(desc, base, &config, unmoved, progress)?;
+    drop(detail);
     let build_time = build_time + motion_time;
 
     // Stage: distances from the scene's size, the framing, camera, light, lights and props.
@@ -148,9 +151,8 @@ pub fn prepare_staged(
     let n_droplets = droplets.len();
     staging.droplets = droplets;
     staging.liquid = liquid;
-    let mut said = Vec::new();
-    motion::move_droplets(&mut motion, &kept, &staging, &mut said)?;
-    notes.extend(said.into_iter().map(Note::new));
+    let moving = (kept.as_slice(), drops.as_slice(), liquid_index.as_slice());
+    move_staging(&mut motion, moving, &staging, &mut notes)?;
     let shader = film_shader(&config);
     // A turntable's frame: the light turns with the camera (turned once here, from the
     // environment as prepared, for every render of the default shot).
@@ -205,8 +207,7 @@ fn motion_slices(
     desc: &SceneDesc,
     base: &Path,
     config: &RenderConfig,
-    films: &load::Films,
-    radii: &[f32],
+    (films, radii, detail): Unmoved,
     progress: Progress,
 ) -> Result<(Vec<motion::MotionSlice>, std::time::Duration)> {
     let Some(shutter) = config.shutter else {
@@ -216,14 +217,18 @@ fn motion_slices(
         || "the given cloud".to_string(),
         |p| base.join(p).display().to_string(),
     );
-    let velocities = motion::velocities(&films.cloud, &source)?;
+    // No films (droplets or liquid only): nothing of theirs to move.
+    let velocities = match films.cloud.is_empty() {
+        true => Vec::new(),
+        false => motion::velocities(&films.cloud, &source)?,
+    };
     let times = shutter.times_s(config.settings.spp);
     let stage = progress.start(&format!("building {} motion-blur slices", times.len()));
     let slices = motion::slices(
         &config.film,
         &films.cloud,
         &velocities,
-        radii,
+        (radii, detail),
         (&films.clips, &films.sheets),
         &times,
     )?;
@@ -241,28 +246,58 @@ fn film_shader(config: &RenderConfig) -> FilmShader {
     )
 }
 
-/// Build: the film geometry of the completed films (their neighbour table handed on), timed
-/// and shown as a progress stage.
+/// The unmoved films motion blur's slices start from: the completed films, their radii and
+/// their disks' first-order detail.
+type Unmoved<'a> = (&'a load::Films, &'a [f32], Option<&'a build::Detail>);
+
+/// [`motion_staging::move_staging`] of the droplet clouds `kept`, the droplet parts `drops`
+/// and the liquid's particles `liquid` (indices into `drops`), its notes added to `notes`.
+fn move_staging(
+    motion: &mut [motion::MotionSlice],
+    (kept, drops, liquid): (&[PointCloud], &[PointCloud], &[usize]),
+    staging: &crate::render::Staging,
+    notes: &mut Vec<Note>,
+) -> Result<()> {
+    let mut said = Vec::new();
+    let moving = motion_staging::Moving {
+        kept,
+        drops,
+        liquid,
+    };
+    motion_staging::move_staging(motion, &moving, staging, &mut said)?;
+    notes.extend(said.into_iter().map(Note::new));
+    Ok(())
+}
+
+/// Build: the film geometry of the completed films (their neighbour table handed on to the
+/// disks' detail), timed and shown as a progress stage; the detail is handed back with an open
+/// shutter (its slices share it), dropped otherwise.
 fn build_geometry(
     config: &RenderConfig,
     films: &mut load::Films,
     radii: &[f32],
     progress: Progress,
-) -> Result<(crate::geometry::FilmGeometry, std::time::Duration)> {
+) -> Result<(
+    crate::geometry::FilmGeometry,
+    Option<build::Detail>,
+    std::time::Duration,
+)> {
     let stage = progress.start(&format!("building the {} geometry", config.film.primitive));
     let neighbours = films.neighbours.take();
+    let detail = build::film_detail(&config.film, &films.cloud, radii, neighbours);
     let geometry = build::film_geometry(
         &config.film,
         &films.cloud,
         radii,
-        neighbours,
+        detail.as_ref(),
         (&films.clips, &films.sheets),
     )?;
     let build_time = stage.finish(&format!(
         "built the {geometry} geometry of {} particles",
         stages::thousands(films.cloud.len())
     ));
-    Ok((geometry, build_time))
+    let detail = detail.filter(|_| config.shutter.is_some());
+    Ok((geometry, detail, build_time))
 }
 
 /// The scene's particles, loaded and completed.
@@ -273,6 +308,8 @@ struct Loaded {
     kept: Vec<PointCloud>,
     droplets: crate::geometry::Droplets,
     liquid: crate::geometry::LiquidSurface,
+    /// The liquid surface's particles, indices into `drops`' particles taken in order.
+    liquid_index: Vec<usize>,
     load_time: std::time::Duration,
     estimate_time: std::time::Duration,
 }
@@ -313,7 +350,11 @@ fn load(
     let repairing = desc.input.repair == Some(true);
     let (mut films, drops) = load::split(parts, repairing, notes)?;
     foam::merge_walls(&mut films, notes);
-    let (kept, liquid) = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
+    let liquid::Split {
+        kept,
+        surface: liquid,
+        liquid: liquid_index,
+    } = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
     let droplets = build::droplets(&kept)?;
     // Kept for motion blur's slices only (they move the droplets too).
     let kept = if config.shutter.is_some() {
@@ -336,6 +377,7 @@ fn load(
         drops,
         droplets,
         liquid,
+        liquid_index,
         load_time,
         estimate_time,
     })

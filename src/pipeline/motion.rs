@@ -1,4 +1,4 @@
-//! Motion blur (`--shutter S`): the film particles and droplets move along their stored velocity while the
+//! Motion blur (`--shutter S`): the film particles, droplets and liquid move along their stored velocity while the
 //! shutter is open, a centred shutter of S frames (time offsets t in [−S/2, S/2] × the frame
 //! interval). The open shutter is cut into K equal time slices; each slice's films (positions
 //! moved by v·t at the slice's middle; normals, radii and thickness as estimated on the unmoved
@@ -62,7 +62,7 @@ pub fn velocities(cloud: &PointCloud, source: &str) -> Result<Vec<Vec3>> {
 ///
 /// # Errors
 /// [`Error::Invalid`] naming `source` and the particle for a non-finite velocity.
-fn stored_velocities(cloud: &PointCloud, source: &str) -> Result<Option<Vec<Vec3>>> {
+pub(super) fn stored_velocities(cloud: &PointCloud, source: &str) -> Result<Option<Vec<Vec3>>> {
     for name in VELOCITY_NAMES {
         let [Some(x), Some(y), Some(z)] =
             ["x", "y", "z"].map(|a| cloud.extra(&format!("{name}_{a}")))
@@ -84,56 +84,8 @@ fn stored_velocities(cloud: &PointCloud, source: &str) -> Result<Option<Vec<Vec3
     Ok(None)
 }
 
-/// Moves the droplets of each slice as [`slices`] moves the films: each slice gets `staging`
-/// with the droplets of `kept` (the clouds drawn as droplets) moved by velocity × the slice's
-/// time. A droplet cloud without a velocity stays where the frame holds it, said in a note.
-///
-/// # Errors
-/// [`Error::Invalid`] for a non-finite droplet velocity (the particle named); as
-/// [`crate::geometry::Droplets::build`].
-pub(super) fn move_droplets(
-    slices: &mut [MotionSlice],
-    kept: &[PointCloud],
-    staging: &Staging,
-    notes: &mut Vec<String>,
-) -> Result<()> {
-    if !slices.is_empty() && !staging.liquid.is_empty() {
-        notes.push(
-            "--shutter moves films and droplets: the liquid surface is drawn where the frame \
-             holds it (--liquid droplets draws its particles as droplets, which move)"
-                .to_string(),
-        );
-    }
-    if slices.is_empty() || kept.is_empty() {
-        return Ok(());
-    }
-    let mut velocities = Vec::with_capacity(kept.len());
-    for (i, cloud) in kept.iter().enumerate() {
-        let v = stored_velocities(cloud, &format!("droplet set {}", i + 1))?;
-        if v.is_none() {
-            notes.push(format!(
-                "--shutter: droplet set {} holds no velocity: its {} droplets are drawn where \
-                 the frame holds them",
-                i + 1,
-                cloud.len()
-            ));
-        }
-        velocities.push(v.unwrap_or_else(|| vec![Vec3::ZERO; cloud.len()]));
-    }
-    for slice in slices {
-        let moved: Vec<PointCloud> = (kept.iter().zip(&velocities))
-            .map(|(cloud, v)| moved(cloud, v, slice.time_s))
-            .collect();
-        slice.staging = Some(Staging {
-            droplets: build::droplets(&moved)?,
-            ..staging.clone()
-        });
-    }
-    Ok(())
-}
-
 /// `cloud`'s positions, normals, thickness and radii, the positions moved by `v` × `t`.
-fn moved(cloud: &PointCloud, v: &[Vec3], t: f32) -> PointCloud {
+pub(super) fn moved(cloud: &PointCloud, v: &[Vec3], t: f32) -> PointCloud {
     PointCloud {
         positions: (cloud.positions.iter().zip(v))
             .map(|(p, v)| *p + *v * t)
@@ -146,12 +98,13 @@ fn moved(cloud: &PointCloud, v: &[Vec3], t: f32) -> PointCloud {
 }
 
 /// The films at each time of `times_s`: positions moved by velocity × time, everything else
-/// as on the unmoved cloud; one geometry each.
+/// (radii, the disks' first-order `detail`, normals, thickness, edge cuts) as on the unmoved
+/// cloud, so each slice costs only its tree's build; one geometry each.
 pub(super) fn slices(
     film: &FilmConfig,
     cloud: &PointCloud,
     velocities: &[Vec3],
-    radii: &[f32],
+    (radii, detail): (&[f32], Option<&build::Detail>),
     parts: (&[EdgeClip], &[u32]),
     times_s: &[f32],
 ) -> Result<Vec<MotionSlice>> {
@@ -161,7 +114,7 @@ pub(super) fn slices(
             let moved = moved(cloud, velocities, t);
             Ok(MotionSlice {
                 time_s: t,
-                geometry: build::film_geometry(film, &moved, radii, None, parts)?,
+                geometry: build::film_geometry(film, &moved, radii, detail, parts)?,
                 staging: None,
             })
         })
@@ -169,9 +122,10 @@ pub(super) fn slices(
 }
 
 /// Renders `world` once per slice (its films replaced by the slice's), the samples shared out
-/// (slice k of K gets spp/K, the first spp mod K one more; a slice left without samples, when
-/// the shot asks fewer samples than there are slices, is skipped) with seed mixed from the
-/// shot's and k, and averages the buffers weighted by samples.
+/// (slice k of K gets spp/K, the first spp mod K one more) with seed mixed from the shot's and
+/// k, and averages the buffers weighted by samples. A shot of fewer samples than slices (the
+/// viewer's one-sample passes) renders spp slices spread evenly over the shutter, one sample
+/// each (one sample: the middle slice, so the picture stays centred on the frame).
 ///
 /// # Errors
 /// As [`crate::render::render`].
@@ -181,13 +135,10 @@ pub(super) fn render(
     shader: &FilmShader,
     settings: &RenderSettings,
 ) -> Result<RenderOutput> {
-    let (k, spp) = (slices.len() as u32, settings.spp);
     let mut sum: Option<RenderOutput> = None;
-    for (i, slice) in (0u32..).zip(slices) {
-        let spp_i = spp / k + u32::from(i < spp % k);
-        if spp_i == 0 {
-            continue;
-        }
+    for (i, spp_i) in shares(slices.len() as u32, settings.spp) {
+        let slice = &slices[i as usize];
+        let spp = settings.spp;
         let s = RenderSettings {
             spp: spp_i,
             seed: crate::mix::mix64(settings.seed ^ crate::mix::mix64(u64::from(i))),
@@ -232,6 +183,17 @@ pub(super) fn render(
     Ok(out)
 }
 
+/// The slices rendered and their samples: (slice, samples) for `k` slices and `spp` samples
+/// (see [`render`]).
+fn shares(k: u32, spp: u32) -> Vec<(u32, u32)> {
+    if spp >= k {
+        return (0..k)
+            .map(|i| (i, spp / k + u32::from(i < spp % k)))
+            .collect();
+    }
+    (0..spp).map(|j| ((2 * j + 1) * k / (2 * spp), 1)).collect()
+}
+
 /// `out` with every mean buffer times `w` (first-hit buffers times `w` × coverage).
 fn scaled(mut out: RenderOutput, w: f32) -> RenderOutput {
     for i in 0..out.alpha.len() {
@@ -265,64 +227,11 @@ fn added(mut acc: RenderOutput, out: &RenderOutput, w: f32) -> RenderOutput {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-
-    fn cloud(x: &[f32], vx: Option<&[f32]>) -> PointCloud {
-        let n = x.len();
-        let mut extra = Vec::new();
-        if let Some(vx) = vx {
-            extra.push(("v_x".to_string(), vx.to_vec()));
-            extra.push(("v_y".to_string(), vec![0.0; n]));
-            extra.push(("v_z".to_string(), vec![0.5; n]));
-        }
-        PointCloud {
-            positions: x.iter().map(|x| Vec3::new(*x, 0.0, 0.0)).collect(),
-            normals: None,
-            thickness_nm: None,
-            radius: Some(vec![0.01; n]),
-            extra,
-        }
-    }
-
-    fn slice(time_s: f32) -> MotionSlice {
-        let none = crate::geometry::SphereGeometry::build(&[], &[], &[], &[]).unwrap();
-        MotionSlice {
-            time_s,
-            geometry: none.into(),
-            staging: None,
-        }
-    }
-
     #[test]
-    fn droplets_move_along_their_velocity_and_those_without_one_stay() {
-        let kept = [cloud(&[0.0, 1.0], Some(&[2.0, -4.0])), cloud(&[5.0], None)];
-        let mut slices = [slice(-0.25), slice(0.5)];
-        let mut notes = Vec::new();
-        move_droplets(&mut slices, &kept, &Staging::default(), &mut notes).unwrap();
-        for s in &slices {
-            let d = &s.staging.as_ref().unwrap().droplets;
-            let t = s.time_s;
-            let want = [
-                Vec3::new(2.0 * t, 0.0, 0.5 * t),
-                Vec3::new(1.0 - 4.0 * t, 0.0, 0.5 * t),
-                Vec3::new(5.0, 0.0, 0.0),
-            ];
-            for (i, w) in want.iter().enumerate() {
-                let (c, r) = d.sphere(i as u32);
-                assert!(
-                    (c - *w).length() < 1e-6 && r == 0.01,
-                    "t {t}: {i}: {c} not {w}"
-                );
-            }
-        }
-        assert!(
-            notes
-                .iter()
-                .any(|n| n.contains("droplet set 2 holds no velocity"))
-        );
-        // A non-finite velocity is refused, naming the particle.
-        let bad = [cloud(&[0.0, 1.0], Some(&[0.0, f32::NAN]))];
-        let e = move_droplets(&mut slices, &bad, &Staging::default(), &mut notes).unwrap_err();
-        assert!(e.to_string().contains("particle 1"), "{e}");
+    fn samples_are_shared_out_and_few_samples_spread_over_the_shutter() {
+        assert_eq!(super::shares(3, 7), [(0, 3), (1, 2), (2, 2)]);
+        // One sample: the middle slice; two: the middles of each half.
+        assert_eq!(super::shares(8, 1), [(4, 1)]);
+        assert_eq!(super::shares(8, 2), [(2, 1), (6, 1)]);
     }
 }
