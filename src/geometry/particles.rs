@@ -6,7 +6,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::ray4::PAD;
-use super::{Aabb, Bvh, BvhParams};
+use super::{Aabb, Bvh};
 use crate::{Error, Result};
 
 /// The accessors every particle geometry with a `bvh: Bvh` field shares: bounds, count,
@@ -49,22 +49,11 @@ pub(super) fn particle_bvh(
     reach: impl Fn(usize) -> f32 + Sync,
     bounds: impl Fn(usize) -> Aabb + Sync,
 ) -> Bvh {
-    particle_bvh_with(n, centre, reach, bounds, BvhParams::default())
-}
-
-/// [`particle_bvh`] with explicit build parameters.
-pub(super) fn particle_bvh_with(
-    n: usize,
-    centre: impl Fn(usize) -> Vec3 + Sync,
-    reach: impl Fn(usize) -> f32 + Sync,
-    bounds: impl Fn(usize) -> Aabb + Sync,
-    params: BvhParams,
-) -> Bvh {
     let boxes: Vec<Aabb> = (0..n)
         .into_par_iter()
         .map(|i| bounds(i).padded((centre(i).abs().max_element() + reach(i)) * BOUNDS_PAD))
         .collect();
-    Bvh::build_with(&boxes, params)
+    Bvh::build(&boxes)
 }
 
 /// `make(particle)` for every slot of `order`, then [`PAD`] copies of `pad` (so a four-wide

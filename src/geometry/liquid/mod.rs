@@ -25,9 +25,9 @@ mod trace;
 
 use glam::Vec3;
 
-use super::particles::particle_bvh_with;
+use super::particles::particle_bvh;
 use super::primitives::sphere_bounds;
-use super::{Aabb, Bvh, BvhParams};
+use super::{Aabb, Bvh};
 use crate::{Error, Result};
 use field::Sums;
 
@@ -36,17 +36,6 @@ pub const KERNEL_SPACINGS: f32 = 2.25;
 
 /// Radius of a sphere of volume s³ in spacings s: (3 / 4π)^⅓.
 pub const VOLUME_RADIUS: f32 = 0.620_350_5;
-
-/// The BVH's build parameters: leaves of at most two particles. The support spheres overlap
-/// about fifty to a point, so a leaf's box holds little but its own particles and every
-/// particle of a crossed leaf costs a sphere test; the default leaves of up to eight made the
-/// ray's gather test far more spheres than it kept.
-const LEAF_PARAMS: BvhParams = BvhParams {
-    bins: 16,
-    max_leaf: 2,
-    traversal_cost: 1.0,
-    parallel_threshold: 4096,
-};
 
 /// Where a ray crosses the liquid's surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,12 +99,11 @@ impl LiquidSurface {
             )));
         }
         let support = KERNEL_SPACINGS * spacing;
-        let bvh = particle_bvh_with(
+        let bvh = particle_bvh(
             positions.len(),
             |i| positions[i],
             |_| support,
             |i| sphere_bounds(positions[i], support),
-            LEAF_PARAMS,
         );
         let points = bvh.order().iter().map(|&i| positions[i as usize]).collect();
         Ok(LiquidSurface {
