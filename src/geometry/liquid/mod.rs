@@ -20,7 +20,6 @@
 //! Queries are `&self` and thread-safe.
 
 mod field;
-mod stream;
 mod trace;
 
 use glam::Vec3;

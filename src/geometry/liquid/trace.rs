@@ -7,9 +7,9 @@ use std::cell::RefCell;
 use glam::Vec3;
 
 use super::field::{MIN_WEIGHT, Sums};
-use super::stream::{Cand, OnRay, Stream};
 use super::{LiquidHit, LiquidSurface};
 use crate::geometry::Ray;
+use crate::geometry::primitives::sphere_roots;
 
 /// Smallest march step, spacings.
 const MIN_STEP: f32 = 0.05;
@@ -22,7 +22,24 @@ const TOLERANCE: f32 = 1e-4;
 /// Upper bound on march steps per query (a guard; a ray through a body takes tens).
 const MAX_MARCH: usize = 1 << 16;
 
-/// Scratch buffers of one thread: the support spheres of the current window, and the active
+/// A support sphere the ray is inside over `(ta, tb)`, with what the march needs of it.
+#[derive(Clone, Copy, Debug)]
+struct Cand {
+    ta: f32,
+    tb: f32,
+    on: OnRay,
+}
+
+/// A particle relative to the ray: `p = centre − origin`, `c0 = |p|²`, `c1 = p · dir`, so its
+/// squared distance from `ray.at(t)` is `c0 − 2 t c1 + t²`.
+#[derive(Clone, Copy, Debug)]
+struct OnRay {
+    p: Vec3,
+    c0: f32,
+    c1: f32,
+}
+
+/// Scratch buffers of one thread: the support spheres along the current ray, and the active
 /// ones (with where each ends).
 #[derive(Default)]
 struct Scratch {
@@ -35,14 +52,13 @@ thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
-/// The spheres that cover the march's current position: every sphere entered by then (the
-/// stream holds those not yet entered), less those left before `low`; `reach` is the farthest
-/// end of any sphere taken (past it the ray is in a gap between pieces of the union).
+/// The spheres of one merged interval that cover the march's current position: every sphere
+/// entered by then (`next` is the first not yet entered), less those left before `low`.
 struct Active<'c> {
-    stream: Stream<'c>,
+    cands: &'c [Cand],
+    next: usize,
     on: &'c mut Vec<OnRay>,
     ends: &'c mut Vec<f32>,
-    reach: f32,
 }
 
 impl Active<'_> {
@@ -57,45 +73,79 @@ impl Active<'_> {
                 k += 1;
             }
         }
-        while let Some(ta) = self.stream.peek()
-            && ta <= t
-        {
-            let c = self.stream.take();
+        while self.next < self.cands.len() && self.cands[self.next].ta <= t {
+            let c = self.cands[self.next];
             if c.tb >= low {
                 self.on.push(c.on);
                 self.ends.push(c.tb);
-                self.reach = self.reach.max(c.tb);
             }
+            self.next += 1;
         }
     }
 }
 
 impl LiquidSurface {
     /// The first crossing of the surface with `t_min < t < t_max`, entering or leaving.
-    /// Cost: per window of the ray (one, from outside) a closest-entry and a segment query of
-    /// the BVH and a sort of the support spheres gathered, and per sample of the march (tens
-    /// through a body) the spheres covering it (~50 in a body).
+    /// Cost: one BVH traversal collecting the support spheres along the segment, a sort, and
+    /// per sample of the march (tens through a body) the spheres covering it (~50 in a body).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<LiquidHit> {
         if self.is_empty() || !ray.is_valid() || t_min.is_nan() || t_max.is_nan() {
             return None;
         }
-        // Rays run over t ≥ 0 (so entry distances sort by their bits, in the stream).
+        // Rays run over t ≥ 0 (so entry distances sort by their bits, below).
         let (t_min, t_max) = (t_min.max(0.0), t_max.min(f32::MAX));
         if t_min >= t_max {
             return None;
         }
         SCRATCH.with_borrow_mut(|sc| {
             let Scratch { cands, on, ends } = sc;
-            on.clear();
-            ends.clear();
-            let mut act = Active {
-                stream: Stream::new(self, ray, (t_min, t_max), cands),
-                on,
-                ends,
-                reach: f32::NEG_INFINITY,
-            };
-            self.march(ray, &mut act, t_max)
+            self.gather(ray, t_min, t_max, cands);
+            let mut start = 0;
+            while start < cands.len() {
+                // One connected piece of the union of the support intervals.
+                let mut end = cands[start].tb;
+                let mut stop = start + 1;
+                while stop < cands.len() && cands[stop].ta <= end {
+                    end = end.max(cands[stop].tb);
+                    stop += 1;
+                }
+                on.clear();
+                ends.clear();
+                let mut act = Active {
+                    cands: &cands[start..stop],
+                    next: 0,
+                    on,
+                    ends,
+                };
+                if let Some(hit) = self.march(ray, &mut act, cands[start].ta, end) {
+                    return Some(hit);
+                }
+                start = stop;
+            }
+            None
         })
+    }
+
+    /// The support spheres the ray is inside somewhere in `(t_min, t_max)`, sorted by entry.
+    fn gather(&self, ray: &Ray, t_min: f32, t_max: f32, cands: &mut Vec<Cand>) {
+        cands.clear();
+        self.bvh.visit_segment(ray, t_min, t_max, |slot| {
+            let c = self.points[slot as usize];
+            if let Some((t0, t1)) = sphere_roots(ray, c, self.support) {
+                let (ta, tb) = (t0.max(t_min), t1.min(t_max));
+                if ta < tb {
+                    let p = c - ray.origin;
+                    let on = OnRay {
+                        p,
+                        c0: p.length_squared(),
+                        c1: p.dot(ray.dir),
+                    };
+                    cands.push(Cand { ta, tb, on });
+                }
+            }
+        });
+        // Non-negative floats order as their bits.
+        cands.sort_unstable_by_key(|c| c.ta.to_bits());
     }
 
     /// φ at `ray.at(t)` over the active spheres `on` (the field module's sums, written for
@@ -118,24 +168,19 @@ impl LiquidSurface {
         (sp / w - t * ray.dir).length() - self.radius
     }
 
-    /// Marches the pieces of the union of the support spheres in `act` up to `t_max` for the
-    /// first sign change of φ (outside the pieces φ is +R: each piece starts afresh where its
-    /// first sphere begins); bisects it; the hit with its normal.
-    fn march(&self, ray: &Ray, act: &mut Active, t_max: f32) -> Option<LiquidHit> {
+    /// Marches `(t0, t1)`, covered by the spheres of `act`, for the first sign change of φ;
+    /// bisects it; the hit with its normal.
+    fn march(&self, ray: &Ray, act: &mut Active, t0: f32, t1: f32) -> Option<LiquidHit> {
         let s = self.spacing;
-        let (mut t, mut f) = (f32::NEG_INFINITY, self.support);
+        act.advance(t0, t0);
+        let mut t = t0;
+        let mut f = self.phi(ray, act.on, t);
         for _ in 0..MAX_MARCH {
-            if t >= act.reach {
-                // In a gap (or before the first piece): on to the next piece's start.
-                t = act.stream.peek()?;
-                act.advance(t, t);
-                f = self.phi(ray, act.on, t);
-            }
-            if t >= t_max {
+            if t >= t1 {
                 return None;
             }
             let step = (STEP_OF_PHI * f.abs()).clamp(MIN_STEP * s, MAX_STEP * s);
-            let tn = (t + step).min(act.reach).min(t_max);
+            let tn = (t + step).min(t1);
             act.advance(t, tn);
             let fnext = self.phi(ray, act.on, tn);
             if (f < 0.0) != (fnext < 0.0) {
