@@ -210,3 +210,41 @@ fn a_cubic_block_ends_half_a_spacing_past_its_outer_particles() {
     );
     assert!(worst < 0.05, "face normals off by {worst}");
 }
+
+#[test]
+fn a_long_rod_and_a_block_past_a_gap_match_the_oracle() {
+    // Rays along a 24-spacing rod cross it in many of the march's gathering windows (4
+    // spacings each), and then a gap of 6 spacings to a second block: every window's spheres
+    // and the jump across the gap must agree with the oracle.
+    let s = 0.01;
+    let mut pts = Vec::new();
+    for i in 0..24 {
+        for j in 0..3 {
+            for k in 0..3 {
+                pts.push(Vec3::new(i as f32, j as f32, k as f32) * s);
+            }
+        }
+    }
+    let mut rng = Rng(11);
+    pts.extend(
+        lattice(3, s, 0.3, &mut rng)
+            .iter()
+            .map(|p| *p + Vec3::X * 30.0 * s),
+    );
+    assert!(agree_with_oracle(&pts, s, 80, 5) > 80);
+    // Along the axis from outside: in at the rod's end, out at its far end, in at the block.
+    let l = LiquidSurface::build(&pts, s).unwrap();
+    let ray = Ray::new(Vec3::new(-5.0 * s, 1.1 * s, 0.9 * s), Vec3::X);
+    let mut t = 0.0;
+    for _ in 0..4 {
+        let fast = l.intersect(&ray, t, 50.0 * s).map(|h| h.t);
+        let slow = oracle(&l, &ray, t, 50.0 * s, 0.01 * s);
+        match (fast, slow) {
+            (Some(a), Some(b)) => {
+                assert!((a - b).abs() < 1e-3 * s, "from {t}: {a} vs oracle {b}");
+                t = a + 2e-3 * s;
+            }
+            (a, b) => panic!("from {t}: intersect {a:?}, oracle {b:?}"),
+        }
+    }
+}
