@@ -4,7 +4,9 @@
 //! gives exactly the unblurred image; bad values are refused in one line before any render.
 
 mod cli_support;
+mod motion_support;
 use cli_support::{filmsplat, tmp};
+use motion_support::{smear, square};
 
 use std::path::{Path, PathBuf};
 
@@ -18,26 +20,6 @@ const SPEED: f32 = 1.0;
 const FRAME_TIME: f32 = 0.5;
 const SHUTTER: f32 = 1.0;
 const SLICES: u32 = 8;
-
-/// A square film, 1 × 1 in the plane z = 0, of disks 0.05 apart, all moving at `velocity`.
-fn square(path: &Path, velocity: [&str; 3]) {
-    let mut rows = Vec::new();
-    for i in 0..=20 {
-        for j in 0..=20 {
-            let (x, y) = (-0.5 + 0.05 * i as f32, -0.5 + 0.05 * j as f32);
-            let [vx, vy, vz] = velocity;
-            rows.push(format!("{x} {y} 0 0 0 1 0.04 400 {vx} {vy} {vz}"));
-        }
-    }
-    let head = format!(
-        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
-         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
-         property float radius\nproperty float thickness\nproperty float velocity_x\n\
-         property float velocity_y\nproperty float velocity_z\nend_header\n",
-        rows.len()
-    );
-    std::fs::write(path, head + &rows.join("\n") + "\n").unwrap();
-}
 
 /// The head-on camera of every render here: size, samples, camera, look-at, field of view.
 fn camera_args() -> Vec<String> {
@@ -83,19 +65,6 @@ fn row(alpha: &[f32], y: usize) -> Vec<f32> {
 }
 fn column(alpha: &[f32], x: usize) -> Vec<f32> {
     (0..H).map(|y| alpha[y * W + x]).collect()
-}
-
-/// Pixels partly covered (a smeared edge) along a line, and the line's centre of coverage.
-fn smear(line: &[f32]) -> (usize, f32) {
-    let partial = line.iter().filter(|a| **a > 0.02 && **a < 0.98).count();
-    let total: f32 = line.iter().sum();
-    let centre = line
-        .iter()
-        .enumerate()
-        .map(|(i, a)| i as f32 * a)
-        .sum::<f32>()
-        / total;
-    (partial, centre)
 }
 
 /// Pixels the open shutter smears each edge over: the distance covered between the first and

@@ -4,7 +4,9 @@
 //! not across the motion.
 
 mod cli_support;
+mod motion_support;
 use cli_support::{filmsplat, tmp};
+use motion_support::smear;
 
 use std::path::{Path, PathBuf};
 
@@ -86,19 +88,6 @@ fn render(input: &Path, name: &str, extra: &[&str]) -> (Vec<f32>, String) {
     let layers = filmsplat::image::read_exr(&exr).unwrap();
     assert_eq!((layers.width, layers.height), (W, H));
     (layers.rgba.iter().map(|p| p[3]).collect(), err)
-}
-
-/// Partly covered pixels along a line of alpha, and the line's centre of coverage.
-fn smear(line: &[f32]) -> (usize, f32) {
-    let partial = line.iter().filter(|a| **a > 0.02 && **a < 0.98).count();
-    let total: f32 = line.iter().sum();
-    let centre = line
-        .iter()
-        .enumerate()
-        .map(|(i, a)| i as f32 * a)
-        .sum::<f32>()
-        / total;
-    (partial, centre)
 }
 
 #[test]

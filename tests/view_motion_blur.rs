@@ -3,31 +3,14 @@
 //! stay centred on the frame's position, and bad shutters are refused before serving.
 
 mod cli_support;
+mod motion_support;
 mod view_support;
 
 use filmsplat::pipeline;
 use filmsplat::scene::SceneDesc;
+use motion_support::square;
 use std::path::{Path, PathBuf};
 use view_support::*;
-
-/// A square film, 1 × 1 in the plane z = 0, of disks 0.05 apart, all moving at 1 along +x.
-fn square(path: &Path, vx: &str) {
-    let mut rows = Vec::new();
-    for i in 0..=20 {
-        for j in 0..=20 {
-            let (x, y) = (-0.5 + 0.05 * i as f32, -0.5 + 0.05 * j as f32);
-            rows.push(format!("{x} {y} 0 0 0 1 0.04 400 {vx} 0 0"));
-        }
-    }
-    let head = format!(
-        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
-         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
-         property float radius\nproperty float thickness\nproperty float velocity_x\n\
-         property float velocity_y\nproperty float velocity_z\nend_header\n",
-        rows.len()
-    );
-    std::fs::write(path, head + &rows.join("\n") + "\n").unwrap();
-}
 
 /// The camera of the requests (head-on, 3 units away).
 const CAMERA: &str = "pos=0,0,3&look=0,0,0&up=0,1,0&fov=40";
@@ -86,7 +69,7 @@ fn centre_x(px: &[u8]) -> f32 {
 
 fn moving_square(name: &str) -> PathBuf {
     let ply = temp(name);
-    square(&ply, "1");
+    square(&ply, ["1", "0", "0"]);
     ply
 }
 
@@ -116,7 +99,7 @@ fn the_final_picture_is_render_s_blur_and_the_quick_passes_stay_centred() {
 fn bad_shutters_are_refused_before_serving() {
     let ply = moving_square("view-bad.ply");
     let nan = temp("view-nan.ply");
-    square(&nan, "nan");
+    square(&nan, ["nan", "0", "0"]);
     let (p, n) = (ply.to_str().unwrap(), nan.to_str().unwrap());
     for (input, flags, needle) in [
         (p, vec!["--shutter", "2", "--frame-time", "0.5"], "0..=1"),
