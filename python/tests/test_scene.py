@@ -85,9 +85,11 @@ def test_orbit_turns_camera_and_studio_like_the_cli():
     start = scene.render().rgb
     quarter = scene.render(orbit=90).rgb
     assert np.abs(quarter - start).mean() < 0.02 * start.mean()
-    # A fixed studio seen from the side (the camera dict alone) is another picture.
+    # The studio is rigged to any camera, so the camera dict alone seen from the side gives the
+    # orbit's picture too, within the shell's own asymmetry (a studio fixed in the world lit
+    # the side view differently: more than 10 % of the mean apart).
     side = scene.render(camera=filmsplat.orbit(90)).rgb
-    assert np.abs(side - start).mean() > 0.1 * start.mean()
+    assert np.abs(side - quarter).mean() < 0.05 * start.mean()
     # Turning back restores the light: the same bytes as before.
     assert scene.render().rgb.tobytes() == start.tobytes()
     with pytest.raises(ValueError, match="orbit"):
