@@ -18,6 +18,7 @@ use filmsplat::io::{ReadOptions, read_cloud};
 use filmsplat::pipeline;
 use filmsplat::pointcloud::PointCloud;
 use filmsplat::pointcloud::estimate::median_spacing;
+use filmsplat::pointcloud::gaps::own_radii;
 use filmsplat::pointcloud::knn::PointIndex;
 use filmsplat::samples::{SampleKind, SampleParams};
 use filmsplat::scene::SceneDesc;
@@ -233,12 +234,7 @@ fn a_torn_film_of_a_few_particles_is_drawn_at_their_own_size_and_thickness() {
     let (d, cloud) = scene(input, "disk");
     let prepared = pipeline::prepare(&d, Path::new(""), false).unwrap();
     let film = &prepared.scene.geometry;
-    let own: Vec<f32> = cloud
-        .extra("sa")
-        .expect("sa")
-        .iter()
-        .map(|a| (a / std::f32::consts::PI).sqrt())
-        .collect();
+    let own = own_radii(&cloud);
     let reach = 2.0 * own.iter().copied().fold(0.0, f32::max);
     let thick = cloud.thickness_nm.as_ref().unwrap();
     let (lo, hi) = thick
@@ -282,12 +278,7 @@ fn a_particle_detached_past_a_rupture_is_drawn_at_its_own_size() {
     let (d, cloud) = scene("thin-film-sph/bursting_bubble/60", "disk");
     let prepared = pipeline::prepare(&d, Path::new(""), false).unwrap();
     let film = &prepared.scene.geometry;
-    let own: Vec<f32> = cloud
-        .extra("sa")
-        .expect("sa")
-        .iter()
-        .map(|a| (a / std::f32::consts::PI).sqrt())
-        .collect();
+    let own = own_radii(&cloud);
     let index = PointIndex::build(&cloud.positions);
     let nearest = |x: Vec3, except: u32| index.nearest_excluding(x, 1, except)[0];
     let normals = cloud.normals.as_ref().unwrap();

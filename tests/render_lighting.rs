@@ -19,17 +19,7 @@ fn measure(input: &Path) -> (f64, usize, f32) {
     d.input.cloud = Some(input.to_path_buf());
     (d.render.width, d.render.height) = (Some(128), Some(72));
     d.render.spp = Some(1);
-    let p = prepare(&d, Path::new(""), false).unwrap();
-    let out = render(&p, &p.shot).unwrap();
-    let v = colour_visibility_of(&p, &out);
-    let (mut sum, mut n) = (0.0f32, 0usize);
-    for (c, a) in out.rgb.iter().zip(&out.alpha) {
-        if *a == 0.0 {
-            sum += 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-            n += 1;
-        }
-    }
-    (v.share(), v.film_pixels, sum / n.max(1) as f32)
+    visibility_and_ground(&d)
 }
 
 #[test]
@@ -71,17 +61,7 @@ fn measure_from(input: &Path, elevation_deg: f32) -> (f64, usize, f32) {
     d.render.spp = Some(1);
     let (e, az) = (elevation_deg.to_radians(), 0.35f32.atan2(1.0));
     d.camera.from = Some([az.sin() * e.cos(), e.sin(), az.cos() * e.cos()]);
-    let p = prepare(&d, Path::new(""), false).unwrap();
-    let out = render(&p, &p.shot).unwrap();
-    let v = colour_visibility_of(&p, &out);
-    let (mut sum, mut n) = (0.0f32, 0usize);
-    for (c, a) in out.rgb.iter().zip(&out.alpha) {
-        if *a == 0.0 {
-            sum += 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-            n += 1;
-        }
-    }
-    (v.share(), v.film_pixels, sum / n.max(1) as f32)
+    visibility_and_ground(&d)
 }
 
 #[test]
@@ -119,4 +99,20 @@ fn a_camera_high_above_still_sees_the_colours_on_a_dark_ground() {
             );
         }
     }
+}
+
+/// Renders `d` and measures it: the share of film pixels whose colour is visible, how many
+/// film pixels there are, and the mean luminance where there is no film (the ground).
+fn visibility_and_ground(d: &SceneDesc) -> (f64, usize, f32) {
+    let p = prepare(d, Path::new(""), false).unwrap();
+    let out = render(&p, &p.shot).unwrap();
+    let v = colour_visibility_of(&p, &out);
+    let (mut sum, mut n) = (0.0f32, 0usize);
+    for (c, a) in out.rgb.iter().zip(&out.alpha) {
+        if *a == 0.0 {
+            sum += 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+            n += 1;
+        }
+    }
+    (v.share(), v.film_pixels, sum / n.max(1) as f32)
 }
