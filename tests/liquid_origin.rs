@@ -125,3 +125,27 @@ fn without_a_readable_frame_0_positions_decide() {
         );
     }
 }
+
+#[test]
+fn without_frame_0_spray_is_told_by_its_own_thicknesses() {
+    // bursting_bubble/60 (tests/data, no frame 0 beside it): 792 3D particles shed by the
+    // rupture, each holding the thickness of the film particle it came from (no two alike).
+    // Positions alone packed 651 of them into six bodies of water of 1.8e-4 m³, where their
+    // stored mass holds 7.1e-9 m³; their own rh tells they are droplets. (The drops above,
+    // which share one rh, still become bodies: `without_a_readable_frame_0_positions_decide`.)
+    let frame =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/thin-film-sph/bursting_bubble/60");
+    let text = format!(
+        "[input]\ncloud = {:?}\n[render]\nwidth = 64\nheight = 48\nspp = 1\n",
+        frame.display().to_string()
+    );
+    let d = SceneDesc::from_toml(&text, "spray.toml").unwrap();
+    let p = pipeline::prepare(&d, Path::new(""), false).unwrap();
+    assert!(p.scene.staging.liquid.is_empty(), "{}", notes(&p));
+    assert_eq!(p.droplets, 792);
+    let n = notes(&p);
+    assert!(
+        n.contains("no two alike") && n.contains("792 droplets"),
+        "{n}"
+    );
+}

@@ -81,11 +81,13 @@ fn a_torn_film_of_a_few_particles_keeps_its_fragments_closed() {
     // Bursting frame 100: 14 film particles in fragments of two to four, drawn at most at
     // twice their area radius. Before the edge cuts the middle of each three-particle
     // fragment stayed open: 0.50 % (default camera) and 1.14 % (edge-on) where the particles
-    // hold film; now 0.06–0.12 % remain at the fragments' crevices, not yet 0.02 %.
+    // hold film; now 0.06–0.12 % remain at the fragments' crevices, not yet 0.02 %. (With
+    // the spray drawn as the droplets it is, not as bodies of water, fewer film pixels are
+    // seen past it: 864 edge-on.)
     for (percent, interior) in pinholes("thin-film-sph/bursting_bubble/100", "disk") {
         eprintln!("bursting 100 disk: {percent:.4} % of {interior} px");
         assert!(
-            interior > 1000 && percent <= 0.15,
+            interior > 500 && percent <= 0.15,
             "{percent:.4} % of {interior} px"
         );
     }

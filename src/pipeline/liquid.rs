@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use super::Note;
 pub use super::liquid_mode::LiquidMode;
-use super::liquid_origin::{Origin, origin};
+use super::liquid_origin::{Origin, origin, shed_by_thickness};
 use crate::Result;
 use crate::geometry::LiquidSurface;
 use crate::pointcloud::PointCloud;
@@ -67,6 +67,14 @@ pub(super) fn split(
                 "{total} 3D particles present since frame 0 ({} holds {n})",
                 first.display()
             ),
+            Origin::Unknown(why) if shed_by_thickness(drops) => {
+                notes.push(Note::new(format!(
+                    "liquid: {why}: every 3D particle holds its own thickness rh (no two \
+                     alike: each keeps that of the film particle it was shed from), so a \
+                     rupture shed them: drawn as {total} droplets (--liquid surface draws bodies)"
+                )));
+                return Ok(Split::none(drops));
+            }
             Origin::Unknown(why) => format!("{why}: positions decide"),
         },
     };

@@ -71,9 +71,58 @@ fn origin_of(input: &Path) -> Origin {
     }
 }
 
+/// Whether the 3D particles `drops` tell by their own data that a rupture shed them, when no
+/// frame 0 tells: the simulator gives a shed droplet the thickness `rh` of the film particle
+/// it came from (`Add_Particle(X, V, M, RH)` in its `FluidSPHBubble.cpp`), so no two shed
+/// droplets hold the same value, while liquid a case sets up shares one (the drops falling
+/// onto a film all hold 1.87e-6 m, a liquid-only run 0). True if every particle stores an `rh`
+/// (or, read back from a converted PLY, a thickness) and no two are alike (compared as
+/// stored, f32), with at least two particles.
+pub(super) fn shed_by_thickness(drops: &[crate::pointcloud::PointCloud]) -> bool {
+    let mut values = Vec::new();
+    for d in drops {
+        // A frame converted to PLY reads `rh` back as the droplets' thickness.
+        let stored = d.extra("rh").or(d.thickness_nm.as_deref());
+        let Some(rh) = stored.filter(|r| r.len() == d.len()) else {
+            return false;
+        };
+        values.extend(rh.iter().map(|v| v.to_bits()));
+    }
+    values.sort_unstable();
+    values.len() >= 2 && values.windows(2).all(|w| w[0] != w[1])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pointcloud::PointCloud;
+
+    fn with_rh(rh: &[f32]) -> PointCloud {
+        let mut c = PointCloud {
+            positions: vec![glam::Vec3::ZERO; rh.len()],
+            ..PointCloud::default()
+        };
+        c.extra.push(("rh".into(), rh.to_vec()));
+        c
+    }
+
+    #[test]
+    fn spray_carries_its_films_thicknesses_set_up_liquid_one_value() {
+        assert!(shed_by_thickness(&[
+            with_rh(&[4.5e-7, 7.0e-7]),
+            with_rh(&[9.3e-7])
+        ]));
+        // Set-up liquid: one shared value (or zero), and a part without rh, tell nothing.
+        assert!(!shed_by_thickness(&[with_rh(&[1.87e-6; 3])]));
+        assert!(!shed_by_thickness(&[with_rh(&[4.5e-7, 7.0e-7, 4.5e-7])]));
+        assert!(!shed_by_thickness(&[
+            with_rh(&[4.5e-7]),
+            PointCloud::default()
+        ]));
+        let mut no_rh = with_rh(&[1.0, 2.0]);
+        no_rh.extra.clear();
+        assert!(!shed_by_thickness(&[no_rh]));
+    }
 
     #[test]
     fn a_snapshot_asks_its_runs_frame_0() {
