@@ -3,8 +3,10 @@
 //!
 //! Cost: each frame's input is read once more, one frame at a time (its particles are
 //! dropped before the next is read: memory as one frame's read), and its velocities scanned;
-//! no estimate, geometry or render.
+//! no estimate, geometry or render. An input that several frames share (a turntable's still
+//! cloud) is read once.
 
+use std::collections::HashSet;
 use std::path::PathBuf;
 
 use super::load::load_parts;
@@ -33,9 +35,16 @@ pub fn check_frames(
     if desc.render.shutter.unwrap_or(0.0) <= 0.0 {
         return Ok(());
     }
+    // A still cloud (a turntable's every frame) is read and checked once.
+    let mut checked: HashSet<Vec<PathBuf>> = HashSet::new();
     for &f in frames {
         let (desc, base) = scene(f)?;
+        let inputs: Vec<PathBuf> = desc.input.paths().iter().map(|p| base.join(p)).collect();
+        if !inputs.is_empty() && checked.contains(&inputs) {
+            continue;
+        }
         check_frame(&desc, &base).map_err(|e| Error::invalid(format!("frame {f}: {e}")))?;
+        checked.insert(inputs);
     }
     Ok(())
 }
