@@ -69,17 +69,20 @@ pub fn film_particle_volume(cloud: &PointCloud) -> Option<(f64, VolumeSource)> {
     {
         return Some((v, VolumeSource::AreaTimesHeight));
     }
+    median_mass_volume(cloud).map(|v| (v, VolumeSource::Mass))
+}
+
+/// The median of the particles' stored mass `m` (kg) over water's density (m³); `None`
+/// without masses or none positive.
+fn median_mass_volume(cloud: &PointCloud) -> Option<f64> {
     let m = cloud.extra("m")?;
     median_positive(m.iter().map(|m| f64::from(*m) / WATER_DENSITY_KG_M3))
-        .map(|v| (v, VolumeSource::Mass))
 }
 
 /// The median volume (m³) of droplets that store their own mass `m` (kg): m / ρ of water.
 /// `None` without masses.
 pub fn stored_droplet_volume(droplets: &PointCloud) -> Option<(f64, VolumeSource)> {
-    let m = droplets.extra("m")?;
-    median_positive(m.iter().map(|m| f64::from(*m) / WATER_DENSITY_KG_M3))
-        .map(|v| (v, VolumeSource::DropletMass))
+    median_mass_volume(droplets).map(|v| (v, VolumeSource::DropletMass))
 }
 
 /// Each droplet's radius (m) from its own stored mass `m` (kg), if the droplet cloud stores
