@@ -22,7 +22,7 @@ use filmsplat::pointcloud::gaps::own_radii;
 use filmsplat::pointcloud::knn::PointIndex;
 use filmsplat::samples::{SampleKind, SampleParams};
 use filmsplat::scene::SceneDesc;
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
