@@ -29,6 +29,9 @@
 //!   × √(A/π), and none read or estimated keeps more than [`AREA_OVERLAP`] × √(A/π)
 //!   ([`bound_by_area`]; see there).
 //!
+//! - **Adrift** particles, left past a rupture (see [`super::adrift`]), are drawn at their
+//!   own size and left out of the other particles' fans, so the film's last row is an edge.
+//!
 //! A particle that looks like an edge among its [`FAN_NEIGHBOURS`] nearest is looked at again
 //! among its [`WIDE_NEIGHBOURS`] nearest (a seam of an anisotropic sampling, where the next
 //! row lies beyond the nearest twelve, is no edge).
@@ -39,6 +42,7 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::adrift::adrift_flags;
 pub use super::area::{
     AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
 };
@@ -85,6 +89,8 @@ pub struct GapReport {
     pub trimmed: usize,
     /// Particles on an open edge (trimmed or not).
     pub edge: usize,
+    /// Particles adrift past a rupture ([`super::adrift`]), drawn at their own size.
+    pub adrift: usize,
 }
 
 impl std::fmt::Display for GapReport {
@@ -93,7 +99,16 @@ impl std::fmt::Display for GapReport {
             f,
             "splat radii fitted to the sampling: {} grown to close gaps, {} trimmed to the film the particles span, {} particles on open edges",
             self.grown, self.trimmed, self.edge
-        )
+        )?;
+        if self.adrift > 0 {
+            write!(
+                f,
+                ", {} adrift past a rupture (nearest neighbour on their sheet farther than {} × both particles' own area radii) drawn at their own size, √(SA/π)",
+                self.adrift,
+                super::area::DETACHED
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -181,7 +196,14 @@ pub fn fit_radii_clipped(
     let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
     let cap = MAX_GROWTH * median;
     let longest = LONG_EDGE * median_kth_distance(index, positions, SPACING_RANK);
+    // Particles adrift past a rupture are drawn at their own size and span no film.
+    let adrift = adrift_flags(index, (positions, normals), own, table, FAN_NEIGHBOURS);
+    let drifting = |j: usize| adrift.get(j).copied().unwrap_or(false);
     let fit = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
+        if drifting(i) {
+            return Fit::Isolated(f32::INFINITY);
+        }
+        let row = &mut row.filter(|(j, _)| !drifting(*j as usize));
         fan(i, positions, normals, radii[i].min(cap), longest, row, s)
     };
     let fits: Vec<Fit> = match table {
@@ -219,7 +241,9 @@ pub fn fit_radii_clipped(
             }
         })
         .collect();
-    apply(radii, fits, cap, own)
+    let (mut report, clips) = apply(radii, fits, cap, own);
+    report.adrift = adrift.iter().filter(|a| **a).count();
+    (report, clips)
 }
 
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×
