@@ -37,6 +37,10 @@ pub struct Prepared {
     pub output: Option<PathBuf>,
     /// The values of an `attribute:NAME` view, one per film particle (`None` for other views).
     pub attribute: Option<AttributeValues>,
+    /// The film particles as loaded, for the render summary's data-aware pinhole figure
+    /// ([`super::pinholes::front_layer_of`]); `None` above
+    /// [`super::film_data::FILM_DATA_CAP`] particles.
+    pub film_data: Option<super::film_data::FilmData>,
     /// Number of film particles.
     pub particles: usize,
     /// Number of droplets (water spheres).
