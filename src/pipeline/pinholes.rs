@@ -16,7 +16,49 @@ use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 use std::path::Path;
 
-use super::Prepared;
+use super::{Prepared, Shot};
+
+/// The render summary's pinhole figure: the front layer's missing share of the film's
+/// interior, and, where the particles are at hand, the share missing where they hold film.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PinholeFigure {
+    /// Every interior pixel whose first film layer is missing (the data's own gaps too).
+    pub interior: FrontLayer,
+    /// Of those, the renderer's pinholes: where the particles hold film in front of what the
+    /// ray found ([`front_layer_in_data`]). `None` when the particles were not kept (more
+    /// than [`super::film_data::FILM_DATA_CAP`]) or the films move during the shutter.
+    pub in_data: Option<FrontLayer>,
+}
+
+/// The pinhole figures of a render `out` of `p` as `shot`: interior pixels (droplets' pixels
+/// left out), the missing ones, and of these the ones where the data holds film (when `p`
+/// kept its particles, [`Prepared::film_data`], and its films stand still). Cost: the metric,
+/// plus, when a pixel is missing, one k-d tree build over the particles and one
+/// [`FilmSpan::crosses`] per missing pixel.
+pub fn front_layer_of(p: &Prepared, shot: &Shot, out: &RenderOutput) -> PinholeFigure {
+    let (w, h) = (shot.settings.width, shot.settings.height);
+    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
+    let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
+    let all = FrontLayer {
+        interior,
+        missing: missing.len(),
+    };
+    let data = p.film_data.as_ref().filter(|_| p.motion.is_empty());
+    let in_data = data.map(|d| {
+        if missing.is_empty() {
+            return all;
+        }
+        let span = FilmSpan::new(&d.positions, &d.normals).with_own_radii(d.own.clone());
+        FrontLayer {
+            interior,
+            missing: crossing(shot, out, &span, &missing),
+        }
+    });
+    PinholeFigure {
+        interior: all,
+        in_data,
+    }
+}
 
 /// The pinhole counts of a render `out` of `p`'s default shot ([`Prepared::shot`]) whose film particles `span` describes:
 /// interior pixels (droplets' pixels left out, as the render's own summary does), and the
@@ -27,9 +69,20 @@ pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) ->
     let (w, h) = (p.shot.settings.width, p.shot.settings.height);
     let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
     let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
+    FrontLayer {
+        interior,
+        missing: crossing(&p.shot, out, span, &missing),
+    }
+}
+
+/// How many of the `missing` pixels (row-major indices of `shot`'s picture) have a ray that
+/// crosses the film `span` holds at least a spacing before the depth `out` found (or anywhere,
+/// where it found nothing).
+fn crossing(shot: &Shot, out: &RenderOutput, span: &FilmSpan, missing: &[usize]) -> usize {
+    let (w, h) = (shot.settings.width, shot.settings.height);
     let aspect = w as f32 / h as f32;
-    let camera = &p.shot.camera;
-    let missing = missing
+    let camera = &shot.camera;
+    missing
         .par_iter()
         .filter(|&&k| {
             let ray = camera.ray(
@@ -43,8 +96,7 @@ pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) ->
             };
             span.crosses(ray.origin, ray.dir, t_max)
         })
-        .count();
-    FrontLayer { interior, missing }
+        .count()
 }
 
 /// The film particles of the scene's input as read (droplets and liquid left out): positions,
