@@ -3,7 +3,7 @@
 //! the data's own gaps beside it.
 
 mod cli_support;
-use cli_support::{data, filmsplat, tmp};
+use cli_support::{data, disk_ply_header, filmsplat, tmp};
 
 /// The two figures of the summary line in `err`: (pinholes %, missing % counting the data's
 /// gaps).
@@ -61,12 +61,7 @@ fn holes_between_disks_the_data_covers_are_pinholes() {
     // the renderer leaves a hole between every four disks, inside the film the data spans.
     let n = 40;
     let spacing = 1.0 / (n - 1) as f32;
-    let mut s = format!(
-        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
-         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
-         property float radius\nproperty float thickness\nend_header\n",
-        n * n
-    );
+    let mut s = disk_ply_header(n * n);
     for i in 0..n {
         for j in 0..n {
             let (x, y) = (i as f32 * spacing - 0.5, j as f32 * spacing - 0.5);
