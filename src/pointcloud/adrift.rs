@@ -22,6 +22,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::area::DETACHED;
+use super::cell::off_sheet;
 use super::knn::{KnnTable, PointIndex};
 
 /// Most a neighbour on a particle's sheet lies off its tangent plane, as a multiple of its
@@ -52,8 +53,7 @@ pub fn is_adrift(
         let far = d > DETACHED * (a + b);
         let off = positions[j as usize] - p;
         let flat = Vec2::new(off.dot(u), off.dot(v)).length();
-        let on_sheet =
-            normals[j as usize].dot(n).abs() >= 0.5 && off.dot(n).abs() <= SHEET_SLOPE * flat;
+        let on_sheet = !off_sheet(n, normals[j as usize], off, flat, SHEET_SLOPE);
         if on_sheet || k == 0 && far {
             return far;
         }
