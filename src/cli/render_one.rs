@@ -252,21 +252,21 @@ fn pinhole_figure(
 ) -> String {
     let f = pipeline::pinholes::front_layer_of(prepared, shot, result);
     match f.in_data {
-        Some(d) => format!(
+        Ok(d) => format!(
             "pinholes at {:.3} % of the film's interior (front layer missing where the particles hold film; {:.3} % counting the gaps in the data)",
             d.percent(),
             f.interior.percent()
         ),
-        None => format!(
+        Err(why) => format!(
             "front layer missing at {:.3} % of the film's interior (gaps in the data counted too: {})",
             f.interior.percent(),
-            if prepared.motion.is_empty() {
-                format!(
+            match why {
+                pipeline::pinholes::NoDataFigure::NotKept => format!(
                     "the particles were not kept: more than {}",
                     pipeline::film_data::FILM_DATA_CAP
-                )
-            } else {
-                "the films move during the shutter".to_string()
+                ),
+                pipeline::pinholes::NoDataFigure::Moving =>
+                    "the films move during the shutter".to_string(),
             }
         ),
     }

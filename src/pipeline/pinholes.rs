@@ -25,9 +25,25 @@ pub struct PinholeFigure {
     /// Every interior pixel whose first film layer is missing (the data's own gaps too).
     pub interior: FrontLayer,
     /// Of those, the renderer's pinholes: where the particles hold film in front of what the
-    /// ray found ([`front_layer_in_data`]). `None` when the particles were not kept (more
-    /// than [`super::film_data::FILM_DATA_CAP`]) or the films move during the shutter.
-    pub in_data: Option<FrontLayer>,
+    /// ray found ([`front_layer_in_data`]), or why there is no such figure.
+    pub in_data: std::result::Result<FrontLayer, NoDataFigure>,
+}
+
+/// Why a [`PinholeFigure`] has no figure where the data holds film.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoDataFigure {
+    /// More film particles than [`super::film_data::FILM_DATA_CAP`]: they were not kept.
+    NotKept,
+    /// The films move during the shutter.
+    Moving,
+}
+
+/// The interior pixels of `shot`'s render `out` (droplets' pixels left out) and the missing
+/// ones among them (row-major indices).
+fn interior_and_missing(shot: &Shot, out: &RenderOutput) -> (usize, Vec<usize>) {
+    let (w, h) = (shot.settings.width, shot.settings.height);
+    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
+    missing_pixels(&out.depth, w, h, &droplets)
 }
 
 /// The pinhole figures of a render `out` of `p` as `shot`: interior pixels (droplets' pixels
@@ -36,24 +52,23 @@ pub struct PinholeFigure {
 /// plus, when a pixel is missing, one k-d tree build over the particles and one
 /// [`FilmSpan::crosses`] per missing pixel.
 pub fn front_layer_of(p: &Prepared, shot: &Shot, out: &RenderOutput) -> PinholeFigure {
-    let (w, h) = (shot.settings.width, shot.settings.height);
-    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
-    let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
+    let (interior, missing) = interior_and_missing(shot, out);
     let all = FrontLayer {
         interior,
         missing: missing.len(),
     };
-    let data = p.film_data.as_ref().filter(|_| p.motion.is_empty());
-    let in_data = data.map(|d| {
-        if missing.is_empty() {
-            return all;
+    let in_data = match &p.film_data {
+        _ if !p.motion.is_empty() => Err(NoDataFigure::Moving),
+        None => Err(NoDataFigure::NotKept),
+        Some(_) if missing.is_empty() => Ok(all),
+        Some(d) => {
+            let span = FilmSpan::new(&d.positions, &d.normals).with_own_radii(d.own.clone());
+            Ok(FrontLayer {
+                interior,
+                missing: crossing(shot, out, &span, &missing),
+            })
         }
-        let span = FilmSpan::new(&d.positions, &d.normals).with_own_radii(d.own.clone());
-        FrontLayer {
-            interior,
-            missing: crossing(shot, out, &span, &missing),
-        }
-    });
+    };
     PinholeFigure {
         interior: all,
         in_data,
@@ -66,9 +81,7 @@ pub fn front_layer_of(p: &Prepared, shot: &Shot, out: &RenderOutput) -> PinholeF
 /// at least a spacing before the hit). Cost: the metric plus one [`FilmSpan::crosses`] per
 /// missing pixel.
 pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) -> FrontLayer {
-    let (w, h) = (p.shot.settings.width, p.shot.settings.height);
-    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
-    let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
+    let (interior, missing) = interior_and_missing(&p.shot, out);
     FrontLayer {
         interior,
         missing: crossing(&p.shot, out, span, &missing),
