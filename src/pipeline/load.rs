@@ -5,6 +5,7 @@
 use super::config::FilmConfig;
 use super::droplets::read_input_parts;
 use super::input_config::{read_options, sample_kind, sample_params};
+use super::one_film::{Ready, join_seams};
 use super::prepared::Note;
 pub use super::sample_check::check_sample_params;
 use crate::io::{CloudPart, PartKind, ThicknessUnit, read_cloud};
@@ -180,23 +181,46 @@ impl Films {
 }
 
 /// Readies every film ([`complete`], which checks every thickness against the film's index,
-/// naming the part's file; `flags` = (repairing, the thickness unit was named)) and joins
-/// them into one cloud.
+/// naming the part's file; `flags` = (repairing, the thickness unit was named)), completes
+/// again as one the parts that are pieces of one film ([`join_seams`], see `one_film`), and
+/// joins them into one cloud, each film its own sheet.
 pub(super) fn films(
     films: Vec<CloudPart>,
     film: &FilmConfig,
     flags: (bool, bool),
     notes: &mut Vec<Note>,
 ) -> Result<Films> {
-    let single = films.len() == 1;
-    let mut clouds = Vec::with_capacity(films.len());
+    // The parts as read, for completing pieces of one film again together.
+    let originals = if films.len() > 1 {
+        films.clone()
+    } else {
+        Vec::new()
+    };
+    let mut ready = Vec::with_capacity(films.len());
+    for part in films {
+        let mut own = Vec::new();
+        let mut part = complete(part, film, flags, &mut own)?;
+        part.notes = own;
+        ready.push(part);
+    }
+    let ready = join_seams(ready, originals, |part, own| {
+        complete(part, film, flags, own)
+    })?;
+    Ok(assemble(ready, notes))
+}
+
+/// The films as one cloud: each film's particles, clips and sheet label after the last's.
+fn assemble(ready: Vec<Ready>, notes: &mut Vec<Note>) -> Films {
+    let single = ready.len() == 1;
+    let mut clouds = Vec::with_capacity(ready.len());
     let mut out = Films {
         had_radius: true,
         ..Films::default()
     };
-    for part in films {
-        let (cloud, table, had_radius, clips) = complete(part, film, flags, notes)?;
-        out.had_radius &= had_radius;
+    for part in ready {
+        notes.extend(part.notes);
+        let (cloud, clips) = (part.cloud, part.clips);
+        out.had_radius &= part.had_radius;
         if !clips.is_empty() && out.clips.is_empty() {
             let before: usize = clouds.iter().map(PointCloud::len).sum();
             out.clips = vec![NO_CLIP; before];
@@ -207,7 +231,7 @@ pub(super) fn films(
                 .extend(clips.into_iter().chain(std::iter::repeat(NO_CLIP)).take(n));
         }
         if single {
-            out.neighbours = table;
+            out.neighbours = part.table;
         } else {
             let sheet = clouds.len() as u32;
             out.sheets.extend(std::iter::repeat_n(sheet, cloud.len()));
@@ -219,20 +243,20 @@ pub(super) fn films(
     } else {
         PointCloud::concat(&clouds)
     };
-    Ok(out)
+    out
 }
 
 /// One film part made ready to draw: validated (or repaired), coincident copies dropped,
 /// thickness scaled (a thickness certainly in another unit refused, unless `unit_explicit`:
-/// the user named the unit or a scale), what is missing estimated, radii fitted. Returns the
+/// the user named the unit or a scale), what is missing estimated, radii fitted; with the
 /// neighbour table if one was built (by the estimate, or for the fit), whether the part came
-/// with radii, and its edge cuts (empty when not fitted).
+/// with radii, and its edge cuts (empty when not fitted). Its notes go to `notes`.
 fn complete(
     part: CloudPart,
     film: &FilmConfig,
     (repairing, unit_explicit): (bool, bool),
     notes: &mut Vec<Note>,
-) -> Result<(PointCloud, Option<KnnTable>, bool, Vec<EdgeClip>)> {
+) -> Result<Ready> {
     let label = part.label;
     let mut cloud = part.cloud;
     let name = |e: Error| Error::invalid(format!("{label}: {e}"));
@@ -305,7 +329,13 @@ fn complete(
         clips = cut;
         trim_detached(&label, r, &own, table.as_ref(), notes);
     }
-    Ok((cloud, table, had_radius, clips))
+    Ok(Ready {
+        cloud,
+        table,
+        had_radius,
+        clips,
+        notes: Vec::new(),
+    })
 }
 
 /// A particle left past a rupture is drawn at its own size, not grown towards the film

@@ -48,6 +48,7 @@ mod melp_sets;
 pub mod memory;
 pub mod motion;
 mod motion_staging;
+mod one_film;
 mod output;
 pub mod pinholes;
 mod prepared;
