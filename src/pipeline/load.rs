@@ -295,16 +295,7 @@ fn complete(
     if repairing {
         validate(&cloud).map_err(name)?;
     }
-    // No splat larger than the particle's own area allows, fitted or not.
-    let own = own_radii(&cloud);
-    if let Some(r) = cloud.radius.as_mut() {
-        let bounded = bound_by_area(r, &own);
-        if bounded > 0 {
-            notes.push(Note::new(format!(
-                "{label}: {bounded} splat radii bounded by {AREA_OVERLAP} × the radius of the particle's own area, √(SA/π)"
-            )));
-        }
-    }
+    let own = bound_by_own_area(&label, &mut cloud, notes);
     let mut table = table;
     let mut clips = Vec::new();
     if film.fit_radii
@@ -336,6 +327,21 @@ fn complete(
         clips,
         notes: Vec::new(),
     })
+}
+
+/// No splat larger than the particle's own area allows, fitted or not ([`bound_by_area`]);
+/// returns the particles' own radii ([`own_radii`]).
+fn bound_by_own_area(label: &str, cloud: &mut PointCloud, notes: &mut Vec<Note>) -> Vec<f32> {
+    let own = own_radii(cloud);
+    if let Some(r) = cloud.radius.as_mut() {
+        let bounded = bound_by_area(r, &own);
+        if bounded > 0 {
+            notes.push(Note::new(format!(
+                "{label}: {bounded} splat radii bounded by {AREA_OVERLAP} × the radius of the particle's own area, √(SA/π)"
+            )));
+        }
+    }
+    own
 }
 
 /// A particle left past a rupture is drawn at its own size, not grown towards the film
