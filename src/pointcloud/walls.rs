@@ -220,6 +220,25 @@ impl<'a> Set<'a> {
     }
 }
 
+impl Set<'_> {
+    /// The particles flagged in `on` whose neighbours within `reach` are all flagged too: the
+    /// removed copy keeps its last row on the wall, so it overlaps the kept copy's edge where
+    /// the copies part instead of leaving a crack between the two bubbles' films (MLS: 0.035 %
+    /// of the foam's interior missing at 1 spp without).
+    fn inside(&self, on: &[bool], reach: f32) -> Vec<bool> {
+        (0..on.len())
+            .map(|i| {
+                on[i]
+                    && self
+                        .index
+                        .nearest_excluding(self.cloud.positions[i], NEIGHBOURS, i as u32)
+                        .into_iter()
+                        .all(|(j, d)| d > reach || on[j as usize])
+            })
+            .collect()
+    }
+}
+
 /// The positions' normals of [`Set::plane`].
 fn plane_normals(cloud: &PointCloud, index: &PointIndex) -> Vec<Vec3> {
     let stored = cloud.normals.as_deref().unwrap_or_default();
@@ -270,6 +289,10 @@ fn bounds_meet(a: &PointCloud, b: &PointCloud) -> bool {
     (alo - m).cmple(bhi + m).all() && (blo - m).cmple(ahi + m).all()
 }
 
+/// A particle of the kept copy settled on the merged wall: its index, the other copy as it sees
+/// it, and the plane its own copy's positions give it.
+type Settle = (usize, Facing, Vec3);
+
 /// Merges the wall of sets `a` (kept) and `b` (removed), if they share one.
 fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
     let (moves, drop) = {
@@ -279,50 +302,57 @@ fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
             return None;
         }
         let support = SUPPORT * spacing;
-        let moves: Vec<(usize, Facing, Vec3)> = sa
+        let moves: Vec<Settle> = sa
             .on_wall(&sb, support, spacing)
             .into_iter()
             .enumerate()
             .filter_map(|(i, f)| f.map(|f| (i, f, sa.plane[i])))
             .collect();
-        let drop: Vec<bool> = sb
+        let on: Vec<bool> = sb
             .on_wall(&sa, support, spacing)
             .iter()
             .map(Option::is_some)
             .collect();
-        (moves, drop)
+        (moves, sb.inside(&on, spacing))
     };
     let removed = drop.iter().filter(|d| **d).count();
     if moves.is_empty() || removed == 0 {
         return None;
     }
-    let mut gaps = Vec::with_capacity(moves.len());
-    let (mut kept_nm, mut other_nm, mut merged_nm) = (Vec::new(), Vec::new(), Vec::new());
-    let cloud = &mut sets[a];
-    for (i, f, own) in &moves {
-        if let Some(n) = cloud.normals.as_mut() {
-            n[*i] = wall_normal(*own, f.normal, n[*i]);
-        }
-        let t = cloud.thickness_nm.as_mut()?;
-        let merged = 0.5 * (t[*i] + f.thickness);
-        kept_nm.push(t[*i]);
-        other_nm.push(f.thickness);
-        merged_nm.push(merged);
-        t[*i] = merged;
-        cloud.positions[*i] += 0.5 * f.gap * f.normal;
-        gaps.push(f.gap.abs());
-    }
+    let mut stats = settle_on_wall(&mut sets[a], &moves)?;
     remove(&mut sets[b], &drop);
+    let mut column = |k: usize| -> f32 {
+        let mut v: Vec<f32> = stats.iter_mut().map(|s| s[k]).collect();
+        median(&mut v)
+    };
     Some(Wall {
         kept: a,
         removed: b,
         kept_particles: moves.len(),
         removed_particles: removed,
-        gap: median(&mut gaps),
-        kept_nm: median(&mut kept_nm),
-        other_nm: median(&mut other_nm),
-        merged_nm: median(&mut merged_nm),
+        gap: column(0),
+        kept_nm: column(1),
+        other_nm: column(2),
+        merged_nm: column(3),
     })
+}
+
+/// Moves the particles of `settle` to the middle of the two copies, facing across the wall,
+/// with the copies' mean thickness; returns per particle the copies' distance and its
+/// thickness before, the other copy's and the merged one (`None` without thickness).
+fn settle_on_wall(cloud: &mut PointCloud, settle: &[Settle]) -> Option<Vec<[f32; 4]>> {
+    let mut stats = Vec::with_capacity(settle.len());
+    for (i, f, own) in settle {
+        if let Some(n) = cloud.normals.as_mut() {
+            n[*i] = wall_normal(*own, f.normal, n[*i]);
+        }
+        let t = cloud.thickness_nm.as_mut()?;
+        let merged = 0.5 * (t[*i] + f.thickness);
+        stats.push([f.gap.abs(), t[*i], f.thickness, merged]);
+        t[*i] = merged;
+        cloud.positions[*i] += 0.5 * f.gap * f.normal;
+    }
+    Some(stats)
 }
 
 /// The merged wall's normal at a kept particle: the mean of the planes of its own copy (`own`)
