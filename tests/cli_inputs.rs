@@ -77,10 +77,10 @@ fn a_scene_file_lists_its_clouds() {
     assert_eq!(code, 0, "{said}");
     assert!(data.is_empty(), "{data}");
     // Three bubbles and the shell (one duplicate position drawn once); the bubbles' three
-    // shared walls are drawn once (225 + 360 + 317 particles of their second copies removed).
+    // shared walls are drawn once (312 + 497 + 444 particles of their second copies removed).
     assert!(said.contains("foam: 3 walls shared"), "{said}");
     assert!(
-        said.contains(&format!("{} particles", 14_997 - 902 + 12_393)),
+        said.contains(&format!("{} particles", 14_997 - 1_253 + 12_393)),
         "{said}"
     );
     // A scene file is rendered alone.

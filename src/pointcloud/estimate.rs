@@ -134,7 +134,7 @@ pub fn estimate_normals_detailed(positions: &[Vec3], k: usize) -> NormalEstimate
 }
 
 /// PCA normal of particle `i` over its first `k` table neighbours; `None` if degenerate.
-fn pca_normal(positions: &[Vec3], table: &KnnTable, i: usize, k: usize) -> Option<Vec3> {
+pub(crate) fn pca_normal(positions: &[Vec3], table: &KnnTable, i: usize, k: usize) -> Option<Vec3> {
     let p = positions[i];
     if !p.is_finite() {
         return None;
