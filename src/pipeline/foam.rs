@@ -6,10 +6,11 @@ use crate::io::CloudPart;
 use crate::pointcloud::walls::{WallReport, merge_shared_walls};
 
 /// Merges the walls shared by two of the film parts (a foam written one set per bubble) and
-/// notes what was merged. Parts without normals or thickness, and single films, are left alone.
-pub(super) fn merge_walls(films: &mut [CloudPart], notes: &mut Vec<Note>) {
+/// notes what was merged; returns the pairs of parts that shared a wall (two bubbles, never
+/// pieces of one film). Parts without normals or thickness, and single films, are left alone.
+pub(super) fn merge_walls(films: &mut [CloudPart], notes: &mut Vec<Note>) -> Vec<(usize, usize)> {
     if films.len() < 2 {
-        return;
+        return Vec::new();
     }
     let mut clouds: Vec<_> = films
         .iter_mut()
@@ -22,6 +23,7 @@ pub(super) fn merge_walls(films: &mut [CloudPart], notes: &mut Vec<Note>) {
     if !report.is_empty() {
         notes.push(Note::new(describe(&report, films)));
     }
+    report.walls.iter().map(|w| (w.kept, w.removed)).collect()
 }
 
 /// "foam: N walls shared by two bubbles drawn once (…)", one line.

@@ -186,6 +186,7 @@ impl Films {
 /// joins them into one cloud, each film its own sheet.
 pub(super) fn films(
     films: Vec<CloudPart>,
+    bubbles: &[(usize, usize)],
     film: &FilmConfig,
     flags: (bool, bool),
     notes: &mut Vec<Note>,
@@ -203,7 +204,7 @@ pub(super) fn films(
         part.notes = own;
         ready.push(part);
     }
-    let ready = join_seams(ready, originals, |part, own| {
+    let ready = join_seams(ready, originals, bubbles, |part, own| {
         complete(part, film, flags, own)
     })?;
     Ok(assemble(ready, notes))

@@ -353,7 +353,7 @@ fn load(
     let stage = progress.start("estimating what the particles lack, fitting radii");
     let repairing = desc.input.repair == Some(true);
     let (mut films, drops) = load::split(parts, repairing, notes)?;
-    foam::merge_walls(&mut films, notes);
+    let bubbles = foam::merge_walls(&mut films, notes);
     let liquid::Split {
         kept,
         surface: liquid,
@@ -370,7 +370,13 @@ fn load(
         return Err(load::nothing_loaded(desc, base));
     }
     let unit_named = desc.film.thickness_unit.is_some() || desc.film.thickness_scale.is_some();
-    let films = load::films(films, &config.film, (repairing, unit_named), notes)?;
+    let films = load::films(
+        films,
+        &bubbles,
+        &config.film,
+        (repairing, unit_named),
+        notes,
+    )?;
     let estimate_time = stage.finish(&format!(
         "completed {} film particles (normals, radii, thickness estimated where missing; radii fitted)",
         stages::thousands(films.cloud.len())

@@ -74,6 +74,7 @@ pub(super) struct Ready {
 pub(super) fn join_seams(
     ready: Vec<Ready>,
     originals: Vec<CloudPart>,
+    bubbles: &[(usize, usize)],
     mut complete: impl FnMut(CloudPart, &mut Vec<Note>) -> Result<Ready>,
 ) -> Result<Vec<Ready>> {
     if ready.len() < 2 {
@@ -88,7 +89,7 @@ pub(super) fn join_seams(
             spacing: median_spacing(r.table.as_ref()),
         })
         .collect();
-    let groups = group(&pieces);
+    let groups = group(&pieces, bubbles);
     if groups.len() == ready.len() {
         return Ok(ready);
     }
@@ -141,14 +142,17 @@ fn median_spacing(table: Option<&KnnTable>) -> f32 {
 }
 
 /// The parts grouped into films: each group (part indices ascending; groups ordered by their
-/// first part) holds the parts joined by seams, directly or through others. Cost: one index
-/// over every particle, [`LOOK`] neighbours searched per edge particle.
-pub fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
+/// first part) holds the parts joined by seams, directly or through others. Parts paired in
+/// `bubbles` share a foam wall (`pointcloud::walls`): two bubbles, whose walls' rims lie on each
+/// other's film where the copies part, never joined. Cost: one index over every particle,
+/// [`LOOK`] neighbours searched per edge particle.
+pub fn group(pieces: &[Piece], bubbles: &[(usize, usize)]) -> Vec<Vec<usize>> {
     let n = pieces.len();
     let mut parent: Vec<usize> = (0..n).collect();
     if n > 1 {
         for ((a, b), count) in contacts(pieces) {
-            if count >= MIN_CONTACTS {
+            let wall = bubbles.contains(&(a, b)) || bubbles.contains(&(b, a));
+            if count >= MIN_CONTACTS && !wall {
                 let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
                 parent[ra.max(rb)] = ra.min(rb);
             }
@@ -276,7 +280,9 @@ mod tests {
             piece(&pb, &n, &cb),
             piece(&pc, &nc, &cc),
         ];
-        assert_eq!(group(&pieces), vec![vec![0, 1], vec![2]]);
+        assert_eq!(group(&pieces, &[]), vec![vec![0, 1], vec![2]]);
+        // Two bubbles that shared a foam wall are never one film, however their rims meet.
+        assert_eq!(group(&pieces, &[(1, 0)]), vec![vec![0], vec![1], vec![2]]);
     }
 
     #[test]
@@ -286,18 +292,18 @@ mod tests {
         let (pb, cb) = grid(5.0, 0.0, 5, 6, &[0, 4]);
         let (na, nb) = (vec![Vec3::Z; 30], vec![Vec3::X; 30]);
         assert_eq!(
-            group(&[piece(&pa, &na, &ca), piece(&pb, &nb, &cb)]),
+            group(&[piece(&pa, &na, &ca), piece(&pb, &nb, &cb)], &[]),
             vec![vec![0], vec![1]]
         );
         // Aligned but three spacings apart: two films.
         let (pc, cc) = grid(7.0, 0.0, 5, 6, &[0, 4]);
         assert_eq!(
-            group(&[piece(&pa, &na, &ca), piece(&pc, &na, &cc)]),
+            group(&[piece(&pa, &na, &ca), piece(&pc, &na, &cc)], &[]),
             vec![vec![0], vec![1]]
         );
         // Touching, aligned, but no edge known (not fitted): apart.
         assert_eq!(
-            group(&[piece(&pa, &na, &[]), piece(&pb, &na, &[])]),
+            group(&[piece(&pa, &na, &[]), piece(&pb, &na, &[])], &[]),
             vec![vec![0], vec![1]]
         );
     }
@@ -314,6 +320,6 @@ mod tests {
             piece(&pa, &n, &ca),
             piece(&pb, &n, &cb),
         ];
-        assert_eq!(group(&pieces), vec![vec![0, 1, 2]]);
+        assert_eq!(group(&pieces, &[]), vec![vec![0, 1, 2]]);
     }
 }
