@@ -1,0 +1,151 @@
+//! One particle's fan: its sheet neighbours projected onto its tangent plane, their hull, its
+//! Voronoi cell cut to that hull, and the verdict the radius fit ([`super::gaps`]) draws from
+//! them (see there).
+
+use glam::{Vec2, Vec3};
+
+use super::cell::{
+    CellScratch, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
+    sheet_neighbours, two_shortest, voronoi_cell_into,
+};
+use super::clip::{EdgeClip, NO_CLIP, reach_and_cut, to_3d};
+
+/// Half-side of the square a Voronoi cell is clipped to, as a multiple of the cloud's median
+/// distance to the [`SPACING_RANK`]-th nearest neighbour (on a hexagonal sampling of spacing d
+/// that distance is d; on a random one about 1.9 times the nearest-neighbour distance).
+pub const LONG_EDGE: f32 = 2.5;
+
+/// Sheet neighbours farther than this fraction of [`LONG_EDGE`] × spacing do not span film
+/// with the particle (a gap that wide is a hole or the space beyond an edge).
+pub const OPEN_FRACTION: f32 = 0.8;
+
+/// Which neighbour's distance measures the spacing for [`LONG_EDGE`].
+pub const SPACING_RANK: usize = 6;
+
+/// Factor on the distance to a gap's centre a disk grows to (its blending weight there is then
+/// (1 − 1/1.15²)² ≈ 0.06, not zero).
+pub const GAP_MARGIN: f32 = 1.15;
+
+/// How far a disk may reach beyond the film its neighbours span, as a multiple of its spacing:
+/// open edges end half a spacing past their last particles.
+pub const EDGE_REACH: f32 = 0.5;
+
+/// What one particle's neighbourhood says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fit {
+    /// On a sheet: grow to at least `need` (0: nothing to close), keep at most `most`; `edge`:
+    /// on the hull of its neighbourhood; `bounded`: the hull cut the cell or the radius (worth
+    /// a second look with more neighbours, whose hull may reach further); `decisive`: bounded
+    /// where it could move the radius (see [`fan`]).
+    Sheet {
+        need: f32,
+        most: f32,
+        edge: bool,
+        bounded: bool,
+        decisive: bool,
+        clip: EdgeClip,
+    },
+    /// No sheet neighbours: the distance to the nearest particle (∞ for none).
+    Isolated(f32),
+}
+
+/// One worker's buffers for [`fan`] (reused particle after particle: no allocation a fan).
+#[derive(Debug, Default)]
+pub struct FanScratch {
+    row: Vec<(u32, f32)>,
+    near: Vec<Vec2>,
+    hull: Vec<Vec2>,
+    cell: CellScratch,
+}
+
+/// The fan of particle `i` with radius `r`: `longest`, the half-side of the square its cell is
+/// clipped to; `row`, its neighbours, nearest first; `s`, buffers.
+pub fn fan(
+    i: usize,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    r: f32,
+    longest: f32,
+    row: &mut dyn Iterator<Item = (u32, f32)>,
+    s: &mut FanScratch,
+) -> Fit {
+    let (p, nrm) = (positions[i], normals[i]);
+    if !(p.is_finite() && nrm.is_finite())
+        || nrm.length_squared() < 0.5
+        || longest.is_nan()
+        || longest <= 0.0
+    {
+        return Fit::Sheet {
+            need: 0.0,
+            most: f32::INFINITY,
+            edge: false,
+            bounded: false,
+            decisive: false,
+            clip: NO_CLIP,
+        };
+    }
+    // Where the film thins, its particles spread: the reach of a neighbourhood follows the
+    // local spacing (the distance to the SPACING_RANK-th neighbour) where that is the larger.
+    s.row.clear();
+    s.row.extend(row);
+    let local = s.row.get(SPACING_RANK - 1).map_or(0.0, |r| LONG_EDGE * r.1);
+    let longest = longest.max(local);
+    let open = OPEN_FRACTION * longest;
+    let nearest = sheet_neighbours(p, nrm, (positions, normals), open, &s.row, &mut s.near);
+    let near = &s.near;
+    if near.len() < 2 {
+        return Fit::Isolated(nearest);
+    }
+    let (d0, d1) = two_shortest(near);
+    let reach = EDGE_REACH * 0.5 * (d0 + d1);
+    // The film i's neighbours span around it, and i's share of it.
+    hull_with_origin_into(near, &mut s.cell, &mut s.hull);
+    let hull = &s.hull;
+    if hull.len() < 3 {
+        // A strand of particles in a line: no area to cover, half a spacing about each.
+        return Fit::Sheet {
+            need: 0.0,
+            most: reach,
+            edge: true,
+            bounded: true,
+            decisive: true,
+            clip: NO_CLIP,
+        };
+    }
+    let (depth, row) = depth_in_hull(hull);
+    let (reach, cut) = reach_and_cut(hull, near, depth, row, reach, EDGE_REACH);
+    voronoi_cell_into(near, longest, &mut s.cell);
+    let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
+    let whole = farthest(&s.cell.poly);
+    clip_to_hull_into(hull, &mut s.cell);
+    let far = farthest(&s.cell.poly);
+    let rim = rim_midpoints(near, hull);
+    let (need, most, clip) = match cut {
+        Some((m, corner)) => {
+            let (u, v) = nrm.any_orthonormal_pair();
+            let need = GAP_MARGIN * far.max(rim).max(corner);
+            (need, need, to_3d(m, reach, u, v))
+        }
+        None => (GAP_MARGIN * far.max(rim), depth + reach, NO_CLIP),
+    };
+    // The hull bounded the verdict: it cut the cell, a rim midpoint lies beyond the cell, or
+    // the radius is trimmed. A wider look (a larger hull, a smaller cell) can move the radius
+    // only where i is an edge, the radius is trimmed, or what the hull cut off or the rim
+    // would grow the radius past `r` (the margin included): elsewhere the narrow verdict
+    // stands.
+    let edge = depth < 0.5 * reach;
+    let grows = |d: f32| GAP_MARGIN * d > r;
+    let trims = most < r.max(need);
+    Fit::Sheet {
+        need,
+        most,
+        edge,
+        bounded: far < 0.999 * whole || rim > far || trims,
+        decisive: edge
+            || cut.is_some()
+            || trims
+            || (far < 0.999 * whole && grows(whole))
+            || (rim > far && grows(rim)),
+        clip,
+    }
+}
