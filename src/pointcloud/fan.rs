@@ -49,6 +49,30 @@ pub enum Fit {
     Isolated(f32),
 }
 
+impl Fit {
+    /// Nothing to change, nothing to look at again (a particle without a valid normal).
+    const NOTHING: Fit = Fit::Sheet {
+        need: 0.0,
+        most: f32::INFINITY,
+        edge: false,
+        bounded: false,
+        decisive: false,
+        clip: NO_CLIP,
+    };
+
+    /// A particle in a strand (its neighbours in a line): kept within `reach`, an edge.
+    fn strand(reach: f32) -> Fit {
+        Fit::Sheet {
+            need: 0.0,
+            most: reach,
+            edge: true,
+            bounded: true,
+            decisive: true,
+            clip: NO_CLIP,
+        }
+    }
+}
+
 /// One worker's buffers for [`fan`] (reused particle after particle: no allocation a fan).
 #[derive(Debug, Default)]
 pub struct FanScratch {
@@ -75,14 +99,7 @@ pub fn fan(
         || longest.is_nan()
         || longest <= 0.0
     {
-        return Fit::Sheet {
-            need: 0.0,
-            most: f32::INFINITY,
-            edge: false,
-            bounded: false,
-            decisive: false,
-            clip: NO_CLIP,
-        };
+        return Fit::NOTHING;
     }
     // Where the film thins, its particles spread: the reach of a neighbourhood follows the
     // local spacing (the distance to the SPACING_RANK-th neighbour) where that is the larger.
@@ -103,14 +120,7 @@ pub fn fan(
     let hull = &s.hull;
     if hull.len() < 3 {
         // A strand of particles in a line: no area to cover, half a spacing about each.
-        return Fit::Sheet {
-            need: 0.0,
-            most: reach,
-            edge: true,
-            bounded: true,
-            decisive: true,
-            clip: NO_CLIP,
-        };
+        return Fit::strand(reach);
     }
     let (depth, row) = depth_in_hull(hull);
     let (reach, cut) = reach_and_cut(hull, near, depth, row, reach, EDGE_REACH);

@@ -29,12 +29,18 @@
 //!   × √(A/π), and none read or estimated keeps more than [`AREA_OVERLAP`] × √(A/π)
 //!   ([`bound_by_area`]; see there).
 //!
-//! A particle that looks like an edge among its [`FAN_NEIGHBOURS`] nearest is looked at again
-//! among its [`WIDE_NEIGHBOURS`] nearest (a seam of an anisotropic sampling, where the next
-//! row lies beyond the nearest twelve, is no edge).
+//! A particle whose fan its [`FAN_NEIGHBOURS`] nearest bound (it looks like an edge, its cell
+//! or a rim midpoint reaches past their hull, its radius is trimmed) is looked at again among
+//! its [`MIDDLE_NEIGHBOURS`] nearest, and if still bounded among its [`WIDE_NEIGHBOURS`]
+//! nearest (a seam of an anisotropic sampling, where the next row lies beyond the nearest
+//! twelve, is no edge; on a Fibonacci sphere a third of the particles have a first-ring
+//! neighbour on their 12-neighbour hull, which 24 neighbours settle). The wider looks are
+//! asked only where they can move the radius ([`SecondLook`]).
 //!
 //! Cost: one k-nearest-neighbour search (k = [`FAN_NEIGHBOURS`], in slices unless a table is
-//! given) plus O(k²) a particle, parallel; edges again with k = [`WIDE_NEIGHBOURS`].
+//! given) plus O(k²) a particle, parallel, in the particles' spatial order
+//! ([`PointIndex::spatial_order`]); bounded fans again with k = [`MIDDLE_NEIGHBOURS`], then
+//! [`WIDE_NEIGHBOURS`].
 
 use glam::Vec3;
 use rayon::prelude::*;
