@@ -38,9 +38,8 @@
 //! asked only where they can move the radius ([`SecondLook`]).
 //!
 //! Cost: one k-nearest-neighbour search (k = [`FAN_NEIGHBOURS`], in slices unless a table is
-//! given) plus O(k²) a particle, parallel, in the particles' spatial order
-//! ([`PointIndex::spatial_order`]); bounded fans again with k = [`MIDDLE_NEIGHBOURS`], then
-//! [`WIDE_NEIGHBOURS`].
+//! given) plus O(k²) a particle, parallel; bounded fans again with k = [`MIDDLE_NEIGHBOURS`],
+//! then [`WIDE_NEIGHBOURS`].
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -162,9 +161,7 @@ pub enum SecondLook {
     Bounded,
 }
 
-/// [`fit_radii_clipped`] with the particles looked at again chosen by `look`. The fans and
-/// the searches run in the index's spatial order ([`PointIndex::spatial_order`]), each
-/// result written to its particle: the same values as in the file's order.
+/// [`fit_radii_clipped`] with the particles looked at again chosen by `look`.
 pub fn fit_radii_looking(
     index: &PointIndex,
     positions: &[Vec3],
@@ -189,7 +186,7 @@ pub fn fit_radii_looking(
     let fit = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
         fan(i, positions, normals, radii[i].min(cap), longest, row, s)
     };
-    let order = index.spatial_order(positions);
+    let order: Vec<u32> = (0..n as u32).collect();
     let mut fits = vec![Fit::Isolated(f32::INFINITY); n];
     match table {
         Some(t) => {

@@ -9,11 +9,7 @@ use kiddo::kd_tree::KdTree;
 use kiddo::leaf_strategies::FlatVec;
 use kiddo::stem_strategies::Eytzinger;
 use rayon::prelude::*;
-use std::borrow::Cow;
 use std::num::NonZeroUsize;
-use std::sync::OnceLock;
-
-use super::spatial_order::spatial_order;
 
 /// Marks an empty slot in a [`KnnTable`] row (fewer than `k` other finite particles exist).
 pub const NO_NEIGHBOUR: u32 = u32::MAX;
@@ -37,8 +33,6 @@ pub struct PointIndex {
     /// else the tree's items are group ids and group `g` holds the particles
     /// `members[starts[g]..starts[g + 1]]`, in ascending index order.
     groups: Option<Groups>,
-    /// The particles in [`spatial_order`], computed on first use.
-    order: OnceLock<Vec<u32>>,
 }
 
 /// Particles sharing one position (see [`PointIndex`]).
@@ -91,7 +85,6 @@ impl PointIndex {
                 tree,
                 finite,
                 groups: None,
-                order: OnceLock::new(),
             };
         }
         let mut starts = Vec::new();
@@ -112,20 +105,6 @@ impl PointIndex {
                 starts,
                 members: order,
             }),
-            order: OnceLock::new(),
-        }
-    }
-
-    /// Every particle index once, in [`spatial_order`] of `positions` (the positions this
-    /// index was built over): queries issued in this order find the tree's leaves in cache.
-    /// Computed on the first call (≈ 30 ms for 1M particles), then shared; called later
-    /// with a different number of positions, the file's order `0..n`.
-    pub fn spatial_order(&self, positions: &[Vec3]) -> Cow<'_, [u32]> {
-        let order = self.order.get_or_init(|| spatial_order(positions));
-        if order.len() == positions.len() {
-            Cow::Borrowed(order)
-        } else {
-            Cow::Owned((0..positions.len() as u32).collect())
         }
     }
 
@@ -226,26 +205,18 @@ impl KnnTable {
         let mut idx = vec![NO_NEIGHBOUR; n * k];
         let mut dist = vec![f32::INFINITY; n * k];
         if k > 0 {
-            // The rows' slots in the particles' spatial order (each written by its own
-            // particle's query), so consecutive queries share the tree's leaves.
-            let mut slots: Vec<Option<(&mut [u32], &mut [f32])>> = idx
-                .chunks_mut(k)
-                .zip(dist.chunks_mut(k))
-                .map(Some)
-                .collect();
-            let order = index.spatial_order(positions);
-            let ordered: Vec<(usize, &mut [u32], &mut [f32])> = order
-                .iter()
-                .map(|&i| i as usize)
-                .filter(|i| rows.contains(i) && positions[*i].is_finite())
-                .filter_map(|i| slots[i - first].take().map(|(a, b)| (i, a, b)))
-                .collect();
-            ordered
-                .into_par_iter()
+            idx.par_chunks_mut(k)
+                .zip(dist.par_chunks_mut(k))
+                .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, ri, rd)| {
+                .for_each(|(r, (ri, rd))| {
+                    let i = first + r;
+                    let p = positions[i];
+                    if !p.is_finite() {
+                        return;
+                    }
                     for (slot, (j, d)) in index
-                        .nearest_excluding(positions[i], k, i as u32)
+                        .nearest_excluding(p, k, i as u32)
                         .into_iter()
                         .enumerate()
                     {
@@ -303,7 +274,6 @@ mod tests {
             tree: Tree::new_from_entries(&entries).unwrap_or_default(),
             finite: order.len(),
             groups: None,
-            order: OnceLock::new(),
         };
         (0..positions.len())
             .map(|i| index.nearest_excluding(positions[i], k, i as u32))

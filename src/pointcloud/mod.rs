@@ -20,7 +20,6 @@ pub mod liquid;
 pub mod mesh;
 pub mod orient;
 pub mod span;
-pub mod spatial_order;
 pub mod stats;
 pub mod validate;
 pub mod walls;
