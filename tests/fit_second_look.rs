@@ -1,9 +1,9 @@
-//! The radius fit's middle look ([`SecondLook::WhereItCanChange`]: particles whose
+//! The radius fit's middle look ([`SecondLook::WhereItCanChange`], opt-in: particles whose
 //! 12-neighbour hull bounds their verdict are looked at among 24 neighbours first, and only
 //! those still bounded among 64) fits the same radii, bit for bit, and the same edge cuts and
-//! counts as the rule before ([`SecondLook::Bounded`]: all of them among 64), on the sample
-//! bubble and half bubble and on the real frames in tests/data, edges, holes and droplets
-//! included.
+//! counts as the default ([`SecondLook::Bounded`]: all of them among 64), on the sample
+//! bubble and half bubble and on the real film frames in tests/data, edges, holes and
+//! droplets included.
 
 use std::path::{Path, PathBuf};
 
@@ -96,6 +96,9 @@ fn real_frames_fit_as_before() {
         "thin-film-sph/catenoid/45",
         "melp/bubble/l_particles_0100.vtp",
         "melp/foam3/50",
+        // Not "double_dam_break_frame_26_4732_particles.vtk" (a 3D liquid cloud drawn as
+        // film): there 8 of 4732 particles get a larger radius from the middle look (e.g.
+        // particle 326: 0.0552 among 64, 0.0671 among 24), which is why it is not the default.
     ] {
         let mut desc = SceneDesc::default();
         desc.input.cloud = Some(data(input));

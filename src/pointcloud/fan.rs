@@ -35,14 +35,12 @@ pub const EDGE_REACH: f32 = 0.5;
 pub enum Fit {
     /// On a sheet: grow to at least `need` (0: nothing to close), keep at most `most`; `edge`:
     /// on the hull of its neighbourhood; `bounded`: the hull cut the cell or the radius (worth
-    /// a second look with more neighbours, whose hull may reach further); `decisive`: bounded
-    /// where it could move the radius (see [`fan`]).
+    /// a second look with more neighbours, whose hull may reach further).
     Sheet {
         need: f32,
         most: f32,
         edge: bool,
         bounded: bool,
-        decisive: bool,
         clip: EdgeClip,
     },
     /// No sheet neighbours: the distance to the nearest particle (∞ for none).
@@ -56,7 +54,6 @@ impl Fit {
         most: f32::INFINITY,
         edge: false,
         bounded: false,
-        decisive: false,
         clip: NO_CLIP,
     };
 
@@ -67,7 +64,6 @@ impl Fit {
             most: reach,
             edge: true,
             bounded: true,
-            decisive: true,
             clip: NO_CLIP,
         }
     }
@@ -138,24 +134,12 @@ pub fn fan(
         }
         None => (GAP_MARGIN * far.max(rim), depth + reach, NO_CLIP),
     };
-    // The hull bounded the verdict: it cut the cell, a rim midpoint lies beyond the cell, or
-    // the radius is trimmed. A wider look (a larger hull, a smaller cell) can move the radius
-    // only where i is an edge, the radius is trimmed, or what the hull cut off or the rim
-    // would grow the radius past `r` (the margin included): elsewhere the narrow verdict
-    // stands.
-    let edge = depth < 0.5 * reach;
-    let grows = |d: f32| GAP_MARGIN * d > r;
     let trims = most < r.max(need);
     Fit::Sheet {
         need,
         most,
-        edge,
+        edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || trims,
-        decisive: edge
-            || cut.is_some()
-            || trims
-            || (far < 0.999 * whole && grows(whole))
-            || (rim > far && grows(rim)),
         clip,
     }
 }
