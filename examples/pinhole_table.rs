@@ -4,9 +4,9 @@
 //!
 //! `cargo run --release --example pinhole_table -- DATA [PART]` (DATA: the folder holding
 //! `thin-film-sph/` and `melp/`; PART: only the frames whose path contains it). Prints one
-//! Markdown row per render: the front layer missing on the film's whole interior (the figure
-//! `render` prints) and only where the particles themselves hold film
-//! ([`pipeline::pinholes::front_layer_in_data`]), percent.
+//! Markdown row per render: the front layer missing on the film's whole interior and only where
+//! the particles themselves hold film ([`pipeline::pinholes::front_layer_in_data`]; the
+//! figure `render`'s summary calls pinholes, the other beside it), percent.
 
 use filmsplat::image::pinholes::missing_front_layer_besides;
 use filmsplat::pipeline;

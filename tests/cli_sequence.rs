@@ -3,7 +3,7 @@
 //! sharded jobs agree on the camera, and the printed `[camera]` lines reproduce it.
 
 mod cli_support;
-use cli_support::{filmsplat, tmp};
+use cli_support::{disk_ply_header, filmsplat, tmp};
 
 use filmsplat::scene::SceneDesc;
 use glam::Vec3;
@@ -16,12 +16,7 @@ const H: usize = 48;
 /// particles with normals and radii (so nothing is estimated).
 fn square(path: &Path, centre: Vec3) {
     let n = 12;
-    let mut s = format!(
-        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
-         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
-         property float radius\nproperty float thickness\nend_header\n",
-        n * n
-    );
+    let mut s = disk_ply_header(n * n);
     for i in 0..n {
         for j in 0..n {
             let p = centre

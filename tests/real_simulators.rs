@@ -291,9 +291,10 @@ fn several_inputs_are_one_scene() {
 
 #[test]
 fn fitted_radii_leave_no_pinholes_in_closed_real_films() {
-    // The missing-front-layer share the render prints, at 1 spp, on real closed films.
+    // The pinhole share the render prints (the front layer missing where the particles hold
+    // film), at 1 spp, on real closed films.
     let share = |said: &str| -> f64 {
-        let at = said.find("missing at ").expect(said) + "missing at ".len();
+        let at = said.find("pinholes at ").expect(said) + "pinholes at ".len();
         said[at..].split(' ').next().unwrap().parse().unwrap()
     };
     for (name, input) in [

@@ -12,11 +12,14 @@ type Stats = (f64, [f64; 2], [f64; 3]);
 
 /// Each sample scene's [`Stats`] at 32x24, 1 spp, 3000 particles, recorded from the renders
 /// (mean colours again when the default studio became a dark ground under a diffuse dome and
-/// the samples' floors black velvet).
+/// the samples' floors black velvet; the bubbles' and the drip's again when the dark ground
+/// shrank to the picture's frustum: their rims reflect the dome beside and below the picture
+/// where the dark wall reached 50° aside and down to the floor, means up 3–16 %, coverage and
+/// centroid unchanged).
 const RECORDED: &[(&str, Stats)] = &[
     (
         "bubble.toml",
-        (0.313, [0.500, 0.443], [0.0933, 0.0896, 0.0959]),
+        (0.313, [0.500, 0.443], [0.0998, 0.0959, 0.102]),
     ),
     (
         "catenoid.toml",
@@ -28,19 +31,19 @@ const RECORDED: &[(&str, Stats)] = &[
     ),
     (
         "drip.toml",
-        (0.258, [0.500, 0.403], [0.0828, 0.0838, 0.0836]),
+        (0.258, [0.500, 0.403], [0.0860, 0.0854, 0.0859]),
     ),
     (
         "half-bubble.toml",
-        (0.185, [0.500, 0.450], [0.0493, 0.0508, 0.0530]),
+        (0.185, [0.500, 0.450], [0.0572, 0.0568, 0.0587]),
     ),
     (
         "irregular-bubble.toml",
-        (0.319, [0.501, 0.441], [0.0911, 0.0967, 0.100]),
+        (0.319, [0.501, 0.441], [0.0942, 0.0984, 0.104]),
     ),
     (
         "oscillating-bubble.toml",
-        (0.251, [0.500, 0.489], [0.0698, 0.0697, 0.0727]),
+        (0.251, [0.500, 0.489], [0.0756, 0.0750, 0.0767]),
     ),
     (
         "square-film.toml",

@@ -242,7 +242,37 @@ pub(super) fn render_prepared(
     Ok(pixels)
 }
 
-/// The summary line of a shaded render: counts, stage times, speed, the missing front layer.
+/// The summary's pinhole figure: the renderer's pinholes (the front layer missing where the
+/// particles hold film), with the share that counts the data's own gaps beside it; without the
+/// particles, the missing share of the interior and why.
+fn pinhole_figure(
+    prepared: &Prepared,
+    shot: &Shot,
+    result: &crate::render::RenderOutput,
+) -> String {
+    let f = pipeline::pinholes::front_layer_of(prepared, shot, result);
+    match f.in_data {
+        Ok(d) => format!(
+            "pinholes at {:.3} % of the film's interior (front layer missing where the particles hold film; {:.3} % counting the gaps in the data)",
+            d.percent(),
+            f.interior.percent()
+        ),
+        Err(why) => format!(
+            "front layer missing at {:.3} % of the film's interior (gaps in the data counted too: {})",
+            f.interior.percent(),
+            match why {
+                pipeline::pinholes::NoDataFigure::NotKept => format!(
+                    "the particles were not kept: more than {}",
+                    pipeline::film_data::FILM_DATA_CAP
+                ),
+                pipeline::pinholes::NoDataFigure::Moving =>
+                    "the films move during the shutter".to_string(),
+            }
+        ),
+    }
+}
+
+/// The summary line of a shaded render: counts, stage times, speed, the pinhole figure.
 fn summary(
     prepared: &Prepared,
     shot: &Shot,
@@ -252,13 +282,7 @@ fn summary(
     wrote: &str,
 ) -> String {
     let s = &shot.settings;
-    let droplets: Vec<bool> = result.droplets.iter().map(|c| *c > 0.0).collect();
-    let front = crate::image::pinholes::missing_front_layer_besides(
-        &result.depth,
-        s.width,
-        s.height,
-        &droplets,
-    );
+    let front = pinhole_figure(prepared, shot, result);
     let stages = match fresh {
         Fresh::Prepared => format!(
             "load {:.3} s, estimate {:.3} s, build {:.3} s",
@@ -269,7 +293,7 @@ fn summary(
         Fresh::Reaimed => "prepared once, camera re-aimed".to_string(),
     };
     format!(
-        "{} particles ({}){}: {stages}; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); front layer missing at {:.3} % of the film's interior; wrote {}",
+        "{} particles ({}){}: {stages}; render {}x{} at {} spp: {:.3} s ({:.2} Mrays/s); {front}; wrote {}",
         prepared.particles,
         prepared.scene.geometry,
         droplet_note(prepared.droplets),
@@ -278,7 +302,6 @@ fn summary(
         s.spp,
         render_time.as_secs_f64(),
         result.rays as f64 / render_time.as_secs_f64() / 1e6,
-        front.percent(),
         wrote
     )
 }

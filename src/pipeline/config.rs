@@ -112,6 +112,9 @@ pub struct CameraConfig {
     pub fov_deg: f32,
     /// Direction from the cloud toward an auto-framed camera.
     pub from: Vec3,
+    /// `from` is the default (the scene names none): auto-framing may raise it to see a flat
+    /// film from above its plane ([`super::framing::view_direction`]).
+    pub from_default: bool,
     /// Thin-lens aperture radius (>= 0; 0 is a pinhole).
     pub aperture: f32,
     /// Distance in focus (> 0; `None`: the distance to the target).
@@ -412,6 +415,7 @@ impl CameraConfig {
             up,
             fov_deg,
             from,
+            from_default: c.from.is_none(),
             aperture,
             focus_distance: c.focus_distance,
         })

@@ -113,10 +113,15 @@ impl CameraConfig {
     /// # Errors
     /// As [`CameraConfig::camera`].
     pub fn auto(&self, framing: &Framing, aspect: f32) -> Result<Camera> {
+        let from = if self.from_default {
+            view_direction(self.from, framing)
+        } else {
+            self.from
+        };
         let cam = Camera::frame(
             framing.centre,
             framing.reach,
-            self.from,
+            from,
             self.up,
             self.fov_deg,
             aspect,
@@ -132,6 +137,44 @@ impl CameraConfig {
         };
         Ok(cam.with_lens(self.aperture, focus))
     }
+}
+
+/// A film whose box's thinnest side is at most this fraction of its longest is flat: with no
+/// `camera.from` in the scene it is seen from at least [`FLAT_ELEVATION_DEG`] above its plane.
+pub const FLAT_RATIO: f32 = 0.1;
+
+/// Least angle, degrees, between the default view of a flat film and the film's plane (the
+/// default direction sees a horizontal film 16° above it, where a thin ellipse hides its
+/// interference pattern).
+pub const FLAT_ELEVATION_DEG: f32 = 50.0;
+
+/// The direction auto-framing looks from when the scene names none: the default `from`, raised
+/// to [`FLAT_ELEVATION_DEG`] above the plane of a flat film (the box's thinnest axis; see
+/// [`FLAT_RATIO`]) on the side `from` lies on, keeping its azimuth about that axis; `from`
+/// itself for a film that is not flat or is already seen steeply enough.
+pub fn view_direction(from: Vec3, framing: &Framing) -> Vec3 {
+    let ext = framing.max - framing.min;
+    let longest = ext.max_element();
+    let axis = (0..3)
+        .min_by(|a, b| ext[*a].total_cmp(&ext[*b]))
+        .unwrap_or(1);
+    let Some(d) = from.try_normalize() else {
+        return from;
+    };
+    if !(longest > 0.0 && ext[axis] <= FLAT_RATIO * longest) {
+        return from;
+    }
+    let n = Vec3::AXES[axis];
+    let (sin, cos) = FLAT_ELEVATION_DEG.to_radians().sin_cos();
+    let along = d.dot(n);
+    if along.abs() >= sin {
+        return from;
+    }
+    let side = if along < 0.0 { -1.0 } else { 1.0 };
+    let planar = (d - along * n)
+        .try_normalize()
+        .unwrap_or_else(|| n.any_orthonormal_vector());
+    planar * cos + n * (side * sin)
 }
 
 /// The explicit camera that reproduces [`auto_camera`] for `framing` exactly: `desc.camera`
@@ -196,6 +239,38 @@ mod tests {
             centre: 0.5 * (min + max),
             reach,
         }
+    }
+
+    #[test]
+    fn a_flat_film_is_seen_from_above_its_plane_and_others_as_asked() {
+        let from = Vec3::from(DEFAULT_FROM);
+        let elevation = |d: Vec3, n: Vec3| d.normalize().dot(n).asin().to_degrees();
+        // A horizontal film (thin in y): raised from 16° to 50°, same azimuth.
+        let flat = f([-1.0, -0.01, -1.0], [1.0, 0.01, 1.0], 1.5);
+        let d = view_direction(from, &flat);
+        assert!((elevation(from, Vec3::Y) - 15.8).abs() < 0.1);
+        assert!(
+            (elevation(d, Vec3::Y) - FLAT_ELEVATION_DEG).abs() < 1e-3,
+            "{d}"
+        );
+        assert!((d.x / d.z - from.x / from.z).abs() < 1e-5);
+        // Thin in x: raised toward +x, the side `from` is on; below, toward -x.
+        let side = f([-0.01, -1.0, -1.0], [0.01, 1.0, 1.0], 1.5);
+        assert!((elevation(view_direction(from, &side), Vec3::X) - 50.0).abs() < 1e-3);
+        let back = Vec3::new(-0.35, 0.3, 1.0);
+        assert!((elevation(view_direction(back, &side), Vec3::X) + 50.0).abs() < 1e-3);
+        // Thin in z: the default already sees it face on; a bubble is not flat.
+        let facing = f([-1.0, -1.0, -0.01], [1.0, 1.0, 0.01], 1.5);
+        assert_eq!(view_direction(from, &facing), from);
+        let round = f([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0], 1.8);
+        assert_eq!(view_direction(from, &round), from);
+        // A named direction is kept, a flat film or not.
+        let mut desc = SceneDesc::default();
+        desc.camera.from = Some([0.35, 0.3, 1.0]);
+        let named = auto_camera(&desc, &flat, 1.0).unwrap();
+        let auto = auto_camera(&SceneDesc::default(), &flat, 1.0).unwrap();
+        assert!((elevation(-named.forward(), Vec3::Y) - 15.8).abs() < 0.1);
+        assert!((elevation(-auto.forward(), Vec3::Y) - 50.0).abs() < 1e-3);
     }
 
     #[test]

@@ -14,8 +14,10 @@ use crate::io::peek_count;
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 
-/// Particle arrays of the cloud: position, normal (3 × f32 each), thickness, radius (f32).
-pub const CLOUD_BYTES_PER_PARTICLE: u64 = 32;
+/// Particle arrays of the cloud: position, normal (3 × f32 each), thickness, radius (f32),
+/// and the copy of positions, normals and own radii the prepared scene keeps for the render
+/// summary's pinhole figure (28 B, `pipeline::pinholes::FilmData`, up to its cap).
+pub const CLOUD_BYTES_PER_PARTICLE: u64 = 32 + 28;
 /// Neighbour search: the k-d tree (~24 B) plus the 12-nearest table (index u32 + distance f32
 /// per neighbour), shared by the normal/radius estimate and the curvature detail.
 pub const NEIGHBOUR_BYTES_PER_PARTICLE: u64 = 24 + 12 * 8;

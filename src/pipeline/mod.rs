@@ -34,6 +34,7 @@ pub mod compare;
 pub mod config;
 mod droplets;
 mod environment_config;
+pub mod film_data;
 mod foam;
 pub mod framing;
 mod image_size;
@@ -83,6 +84,7 @@ use crate::pointcloud::PointCloud;
 use crate::render::{Camera, FilmShader, RenderOutput, RenderSettings, Scene, Studio, WorldRef};
 use crate::scene::SceneDesc;
 use build::Tolerances;
+use film_data::FilmData;
 use std::path::Path;
 
 /// Builds everything the renderer needs from a scene description. `base` is the folder paths
@@ -123,7 +125,7 @@ pub fn prepare_staged(
     let loaded = load(desc, base, cloud, &config, progress, &mut notes)?;
     let (mut films, drops, droplets) = (loaded.films, loaded.drops, loaded.droplets);
     let (kept, liquid_index, liquid) = (loaded.kept, loaded.liquid_index, loaded.liquid);
-    let radii = films.radii(&config.film);
+    let (radii, film_data) = (films.radii(&config.film), FilmData::of(&films.cloud));
     let attribute = config
         .attribute
         .as_ref()
@@ -176,6 +178,7 @@ pub fn prepare_staged(
         shot,
         output: config.output.path,
         attribute,
+        film_data,
         particles: films.cloud.len(),
         droplets: n_droplets,
         load_time: loaded.load_time,

@@ -16,7 +16,64 @@ use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 use std::path::Path;
 
-use super::Prepared;
+use super::{Prepared, Shot};
+
+/// The render summary's pinhole figure: the front layer's missing share of the film's
+/// interior, and, where the particles are at hand, the share missing where they hold film.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PinholeFigure {
+    /// Every interior pixel whose first film layer is missing (the data's own gaps too).
+    pub interior: FrontLayer,
+    /// Of those, the renderer's pinholes: where the particles hold film in front of what the
+    /// ray found ([`front_layer_in_data`]), or why there is no such figure.
+    pub in_data: std::result::Result<FrontLayer, NoDataFigure>,
+}
+
+/// Why a [`PinholeFigure`] has no figure where the data holds film.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoDataFigure {
+    /// More film particles than [`super::film_data::FILM_DATA_CAP`]: they were not kept.
+    NotKept,
+    /// The films move during the shutter.
+    Moving,
+}
+
+/// The interior pixels of `shot`'s render `out` (droplets' pixels left out) and the missing
+/// ones among them (row-major indices).
+fn interior_and_missing(shot: &Shot, out: &RenderOutput) -> (usize, Vec<usize>) {
+    let (w, h) = (shot.settings.width, shot.settings.height);
+    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
+    missing_pixels(&out.depth, w, h, &droplets)
+}
+
+/// The pinhole figures of a render `out` of `p` as `shot`: interior pixels (droplets' pixels
+/// left out), the missing ones, and of these the ones where the data holds film (when `p`
+/// kept its particles, [`Prepared::film_data`], and its films stand still). Cost: the metric,
+/// plus, when a pixel is missing, one k-d tree build over the particles and one
+/// [`FilmSpan::crosses`] per missing pixel.
+pub fn front_layer_of(p: &Prepared, shot: &Shot, out: &RenderOutput) -> PinholeFigure {
+    let (interior, missing) = interior_and_missing(shot, out);
+    let all = FrontLayer {
+        interior,
+        missing: missing.len(),
+    };
+    let in_data = match &p.film_data {
+        _ if !p.motion.is_empty() => Err(NoDataFigure::Moving),
+        None => Err(NoDataFigure::NotKept),
+        Some(_) if missing.is_empty() => Ok(all),
+        Some(d) => {
+            let span = FilmSpan::new(&d.positions, &d.normals).with_own_radii(d.own.clone());
+            Ok(FrontLayer {
+                interior,
+                missing: crossing(shot, out, &span, &missing),
+            })
+        }
+    };
+    PinholeFigure {
+        interior: all,
+        in_data,
+    }
+}
 
 /// The pinhole counts of a render `out` of `p`'s default shot ([`Prepared::shot`]) whose film particles `span` describes:
 /// interior pixels (droplets' pixels left out, as the render's own summary does), and the
@@ -24,12 +81,21 @@ use super::Prepared;
 /// at least a spacing before the hit). Cost: the metric plus one [`FilmSpan::crosses`] per
 /// missing pixel.
 pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) -> FrontLayer {
-    let (w, h) = (p.shot.settings.width, p.shot.settings.height);
-    let droplets: Vec<bool> = out.droplets.iter().map(|c| *c > 0.0).collect();
-    let (interior, missing) = missing_pixels(&out.depth, w, h, &droplets);
+    let (interior, missing) = interior_and_missing(&p.shot, out);
+    FrontLayer {
+        interior,
+        missing: crossing(&p.shot, out, span, &missing),
+    }
+}
+
+/// How many of the `missing` pixels (row-major indices of `shot`'s picture) have a ray that
+/// crosses the film `span` holds at least a spacing before the depth `out` found (or anywhere,
+/// where it found nothing).
+fn crossing(shot: &Shot, out: &RenderOutput, span: &FilmSpan, missing: &[usize]) -> usize {
+    let (w, h) = (shot.settings.width, shot.settings.height);
     let aspect = w as f32 / h as f32;
-    let camera = &p.shot.camera;
-    let missing = missing
+    let camera = &shot.camera;
+    missing
         .par_iter()
         .filter(|&&k| {
             let ray = camera.ray(
@@ -43,8 +109,7 @@ pub fn front_layer_in_data(p: &Prepared, out: &RenderOutput, span: &FilmSpan) ->
             };
             span.crosses(ray.origin, ray.dir, t_max)
         })
-        .count();
-    FrontLayer { interior, missing }
+        .count()
 }
 
 /// The film particles of the scene's input as read (droplets and liquid left out): positions,

@@ -37,6 +37,10 @@ pub struct Prepared {
     pub output: Option<PathBuf>,
     /// The values of an `attribute:NAME` view, one per film particle (`None` for other views).
     pub attribute: Option<AttributeValues>,
+    /// The film particles as loaded, for the render summary's data-aware pinhole figure
+    /// ([`super::pinholes::front_layer_of`]); `None` above
+    /// [`super::film_data::FILM_DATA_CAP`] particles.
+    pub film_data: Option<super::film_data::FilmData>,
     /// Number of film particles.
     pub particles: usize,
     /// Number of droplets (water spheres).
@@ -83,14 +87,19 @@ impl Prepared {
 
     /// The light `shot` is rendered in: the built-in studio rigged to the shot's camera
     /// ([`crate::render::Studio::rigged_to`]: the dark ground behind the subject, the dome
-    /// around, from any camera; an orbit's turn is in its camera already), any other
+    /// around, from any camera; an orbit's turn is in its camera already) and sized to the
+    /// shot's picture ([`crate::render::Studio::framed`]), any other
     /// environment turned by the shot's `turn_deg` ([`Prepared::environment`]). Costs a copy
     /// of the studio (a few hundred bytes).
     pub fn environment_of(&self, shot: &Shot) -> Cow<'_, Environment> {
         match &self.scene.environment {
-            Environment::Studio(s) => Cow::Owned(Environment::Studio(
-                s.rigged_to(shot.camera.forward(), shot.camera.up()),
-            )),
+            Environment::Studio(s) => {
+                let (w, h) = (shot.settings.width, shot.settings.height);
+                Cow::Owned(Environment::Studio(
+                    s.rigged_to(shot.camera.forward(), shot.camera.up())
+                        .framed(shot.camera.tan_half_fov(), w as f32 / h.max(1) as f32),
+                ))
+            }
             _ => self.environment(shot.turn_deg),
         }
     }

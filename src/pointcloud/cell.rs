@@ -207,6 +207,13 @@ pub fn two_shortest(near: &[Vec2]) -> (f32, f32) {
     (d0, d1)
 }
 
+/// Whether a neighbour at offset `off` from a particle with unit normal `nrm`, `flat` from it
+/// along the particle's tangent plane, with normal `nj`, lies off the particle's sheet: normals
+/// more than 60° apart, or farther off the tangent plane than `slope` × `flat`.
+pub fn off_sheet(nrm: Vec3, nj: Vec3, off: Vec3, flat: f32, slope: f32) -> bool {
+    nj.dot(nrm).abs() < 0.5 || off.dot(nrm).abs() > slope * flat
+}
+
 /// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
 /// within 60°, not farther off its tangent plane than along it), nearer than `open`, as
 /// offsets in its tangent plane, into `near`; returns the distance to the nearest particle of
@@ -227,8 +234,7 @@ pub fn sheet_neighbours(
         let off = q - p;
         let flat = Vec2::new(off.dot(u), off.dot(v));
         nearest = nearest.min(d);
-        if nj.dot(nrm).abs() < 0.5
-            || off.dot(nrm).abs() > flat.length()
+        if off_sheet(nrm, nj, off, flat.length(), 1.0)
             || flat.length_squared() == 0.0
             || flat.length() >= open
         {

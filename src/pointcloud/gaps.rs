@@ -29,6 +29,9 @@
 //!   × √(A/π), and none read or estimated keeps more than [`AREA_OVERLAP`] × √(A/π)
 //!   ([`bound_by_area`]; see there).
 //!
+//! - **Adrift** particles, left past a rupture (see [`super::adrift`]), are drawn at their
+//!   own size and left out of the other particles' fans, so the film's last row is an edge.
+//!
 //! A particle whose fan its [`FAN_NEIGHBOURS`] nearest bound (it looks like an edge, its cell
 //! or a rim midpoint reaches past their hull, its radius is trimmed) is looked at again among
 //! its [`WIDE_NEIGHBOURS`] nearest (a seam of an anisotropic sampling, where the next row lies beyond the nearest
@@ -43,6 +46,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::adrift::adrift_flags;
 pub use super::area::{
     AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
 };
@@ -72,6 +76,8 @@ pub struct GapReport {
     pub middle_looks: usize,
     /// Particles looked at again among their [`WIDE_NEIGHBOURS`] nearest.
     pub wide_looks: usize,
+    /// Particles adrift past a rupture ([`super::adrift`]), drawn at their own size.
+    pub adrift: usize,
 }
 
 impl std::fmt::Display for GapReport {
@@ -80,7 +86,16 @@ impl std::fmt::Display for GapReport {
             f,
             "splat radii fitted to the sampling: {} grown to close gaps, {} trimmed to the film the particles span, {} particles on open edges ({} looked at again among their {MIDDLE_NEIGHBOURS} nearest, {} among their {WIDE_NEIGHBOURS})",
             self.grown, self.trimmed, self.edge, self.middle_looks, self.wide_looks
-        )
+        )?;
+        if self.adrift > 0 {
+            write!(
+                f,
+                ", {} adrift past a rupture (nearest neighbour on their sheet farther than {} × both particles' own area radii) drawn at their own size, √(SA/π)",
+                self.adrift,
+                super::area::DETACHED
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -185,7 +200,14 @@ pub fn fit_radii_looking(
     let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
     let cap = MAX_GROWTH * median;
     let longest = LONG_EDGE * median_kth_distance(index, positions, SPACING_RANK);
+    // Particles adrift past a rupture are drawn at their own size and span no film.
+    let adrift = adrift_flags(index, (positions, normals), own, table, FAN_NEIGHBOURS);
+    let drifting = |j: usize| adrift.get(j).copied().unwrap_or(false);
     let fit = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
+        if drifting(i) {
+            return Fit::Isolated(f32::INFINITY);
+        }
+        let row = &mut row.filter(|(j, _)| !drifting(*j as usize));
         fan(i, positions, normals, radii[i].min(cap), longest, row, s)
     };
     let order: Vec<u32> = (0..n as u32).collect();
@@ -234,6 +256,7 @@ pub fn fit_radii_looking(
     let report = GapReport {
         middle_looks,
         wide_looks,
+        adrift: adrift.iter().filter(|a| **a).count(),
         ..report
     };
     (report, clips)

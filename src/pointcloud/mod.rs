@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+pub mod adrift;
 pub mod area;
 pub mod cell;
 pub mod clip;

@@ -102,6 +102,11 @@ impl Camera {
         self.up
     }
 
+    /// tan(fov_y / 2): the picture's half-height at unit distance along the view.
+    pub fn tan_half_fov(&self) -> f32 {
+        self.tan_half_fov
+    }
+
     /// Radius (scene units) of a disk that covers one pixel of an image `height_px` pixels
     /// high at point `p`'s distance along the view direction: 0.75 pixel widths (a pixel's
     /// half-diagonal is 0.71). 0 for a point behind the camera.

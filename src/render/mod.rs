@@ -15,6 +15,7 @@ pub mod props;
 pub mod radiance;
 pub mod sampler;
 pub mod shading;
+mod studio;
 mod transport;
 pub mod views;
 pub mod world;

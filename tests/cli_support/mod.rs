@@ -28,3 +28,13 @@ pub fn tmp(name: &str) -> PathBuf {
 pub fn data(name: &str) -> String {
     format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))
 }
+
+/// The header of an ASCII PLY of `n` particles with position, normal, radius and thickness
+/// (`x y z nx ny nz radius thickness` a line), so nothing is estimated.
+pub fn disk_ply_header(n: usize) -> String {
+    format!(
+        "ply\nformat ascii 1.0\nelement vertex {n}\nproperty float x\nproperty float y\n\
+         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+         property float radius\nproperty float thickness\nend_header\n"
+    )
+}

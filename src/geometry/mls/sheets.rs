@@ -10,6 +10,7 @@ use std::cell::RefCell;
 
 use super::MlsSurface;
 use super::field::Cand;
+use super::gathered::sort_by_entry;
 use crate::geometry::{Ray, SurfaceHit};
 use crate::{Error, Result};
 
@@ -92,21 +93,25 @@ impl MlsSurface {
         cands: &mut [Cand],
         complete: f32,
     ) -> Result<Option<SurfaceHit>, f32> {
-        if self.sheets.is_empty() {
-            return self.march_all(ray, cands, complete);
+        let inf = f32::INFINITY;
+        // One sheet along the ray (the common case) needs no split.
+        let first = cands.first().map_or(0, |c| self.sheet(c.slot));
+        if self.sheets.is_empty() || cands.iter().all(|c| self.sheet(c.slot) == first) {
+            return self.march_all(ray, cands, complete, inf);
         }
         let mut labels: Vec<u32> = cands.iter().map(|c| self.sheet(c.slot)).collect();
         labels.sort_unstable();
         labels.dedup();
-        if labels.len() <= 1 {
-            return self.march_all(ray, cands, complete);
-        }
+        // In order once, so each sheet's share is in order too.
+        sort_by_entry(cands);
         SHEET_CANDS.with_borrow_mut(|own| {
             let (mut best, mut incomplete): (Option<SurfaceHit>, Option<f32>) = (None, None);
             for s in labels {
                 own.clear();
                 own.extend(cands.iter().filter(|c| self.sheet(c.slot) == s));
-                match self.march_all(ray, own, complete) {
+                // Intervals starting past the nearest crossing so far cannot hold a nearer one.
+                let stop = best.map_or(inf, |b| b.t);
+                match self.march_all(ray, own, complete, stop) {
                     Ok(Some(h)) if best.is_none_or(|b| h.t < b.t) => best = Some(h),
                     Err(start) => incomplete = Some(incomplete.map_or(start, |e| e.min(start))),
                     _ => {}

@@ -7,6 +7,7 @@ use super::field::{self, Cand};
 use super::gathered::{GATHERED, QueryKey, sort_by_entry};
 use crate::geometry::primitives::sphere_roots;
 use crate::geometry::{Ray, SurfaceHit};
+use glam::Vec3;
 
 /// Smallest march step, particle radii (near the surface, where |f| is small).
 const MIN_STEP: f32 = 0.05;
@@ -19,6 +20,11 @@ const TOLERANCE: f32 = 1e-3;
 /// The first gathering pass collects the support spheres entered within this many support
 /// radii of the first one: enough for a film crossed at up to ~70° from its normal.
 const WINDOW: f32 = 6.0;
+/// A sphere whose centre the ray passes at b is entered no sooner than b − h; the gathering
+/// skips it without its roots when b − this many support radii h lies past the window (a
+/// margin over 1 for the rounding of the roots, so that only spheres the roots would reject
+/// are skipped).
+const ENTRY_MARGIN: f32 = 1.001;
 /// Upper bound on march steps per interval (a guard; ordinary intervals take tens).
 const MAX_MARCH: usize = 1 << 16;
 /// Upper bound on refinement iterations (two per halving of the bracket at worst).
@@ -86,13 +92,19 @@ impl MlsSurface {
         cands.clear();
         let mut window = t_max;
         self.bvh.closest(ray, from, t_max, |s, bound| {
-            if let Some(c) = self.clipped(ray, s, from, t_max)
-                && c.ta <= *bound
+            let q = &self.particles[s as usize];
+            // The ray enters the sphere no sooner than b − h (b: where it passes the centre),
+            // so one entered past the bound needs no root (the margin keeps this a shortcut).
+            if ray.dir.dot(q.p - ray.origin) - ENTRY_MARGIN * q.h > *bound {
+                return;
+            }
+            if let Some((ta, tb)) = clip(ray, q.p, q.h, from, t_max)
+                && ta <= *bound
             {
-                let end = c.ta + WINDOW * self.particles[s as usize].h;
+                let end = ta + WINDOW * q.h;
                 window = window.min(end);
                 *bound = bound.min(end);
-                cands.push(c);
+                cands.push(self.cand_on(ray, s, ta, tb));
             }
         });
         cands.retain(|c| c.ta <= window);
@@ -104,29 +116,38 @@ impl MlsSurface {
     #[inline(always)]
     fn clipped(&self, ray: &Ray, slot: u32, t_min: f32, t_max: f32) -> Option<Cand> {
         let q = &self.particles[slot as usize];
-        let (t0, t1) = sphere_roots(ray, q.p, q.h)?;
-        let (ta, tb) = (t0.max(t_min), t1.min(t_max));
-        (ta < tb).then(|| {
-            let mut c = self.cand(slot, ta, tb);
-            (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
-            c
-        })
+        let (ta, tb) = clip(ray, q.p, q.h, t_min, t_max)?;
+        Some(self.cand_on(ray, slot, ta, tb))
+    }
+
+    /// The candidate record of the sphere in `slot`, which the ray is inside for `ta..=tb`.
+    #[inline(always)]
+    fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
+        let q = &self.particles[slot as usize];
+        let mut c = self.cand(slot, ta, tb);
+        (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
+        c
     }
 
     /// Sorts `cands` and marches the union of their support intervals, one connected piece at a
     /// time, returning the first valid crossing; inside each piece only the band where the
     /// tangent planes allow a crossing is marched. Only intervals ending by `complete` are known
-    /// to hold all their spheres: reaching one that does not gives `Err(its start)`.
+    /// to hold all their spheres: reaching one that does not gives `Err(its start)`. Intervals
+    /// starting beyond `stop` (a crossing is already known there) are not marched.
     pub(super) fn march_all(
         &self,
         ray: &Ray,
         cands: &mut [Cand],
         complete: f32,
+        stop: f32,
     ) -> Result<Option<SurfaceHit>, f32> {
         sort_by_entry(cands);
         let mut i = 0;
         while i < cands.len() {
             let (s0, mut s1, mut r) = (cands[i].ta, cands[i].tb, cands[i].r);
+            if s0 > stop {
+                break;
+            }
             let mut j = i + 1;
             while j < cands.len() && cands[j].ta <= s1 {
                 s1 = s1.max(cands[j].tb);
@@ -140,7 +161,11 @@ impl MlsSurface {
             let tol = tolerance(ray, s1, r);
             if let Some((u, v)) = band::sign_band(piece, s0, s1, tol) {
                 let (u, v) = ((u - tol).max(s0), (v + tol).min(s1));
-                if let Some(hit) = self.march(ray, piece, u, v, r, tol) {
+                // f inside the band: the spheres entered by its end, from the first still
+                // covering its start (those before it never cover a point of the band).
+                let last = piece.partition_point(|c| c.ta <= v);
+                let first = piece[..last].iter().position(|c| c.tb >= u).unwrap_or(last);
+                if let Some(hit) = self.march(ray, &piece[first..last], u, v, r, tol) {
                     return Ok(Some(hit));
                 }
             }
@@ -293,6 +318,14 @@ impl MlsSurface {
             particle: self.bvh.order()[s.best_slot as usize],
         })
     }
+}
+
+/// Where the ray is inside the sphere (`centre`, `radius`) within `(t_min, t_max)`, if anywhere.
+#[inline(always)]
+fn clip(ray: &Ray, centre: Vec3, radius: f32, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
+    let (t0, t1) = sphere_roots(ray, centre, radius)?;
+    let (ta, tb) = (t0.max(t_min), t1.min(t_max));
+    (ta < tb).then_some((ta, tb))
 }
 
 /// The refinement tolerance in a support interval ending at `s1` whose smallest particle radius
