@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 
 use super::cell::{
-    CellScratch, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
+    CellScratch, FAN_SLOPE, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
     sheet_neighbours, two_shortest, voronoi_cell_into,
 };
 use super::clip::{EdgeClip, NO_CLIP, reach_and_cut, to_3d};
@@ -78,6 +78,37 @@ pub struct FanScratch {
     cell: CellScratch,
 }
 
+impl FanScratch {
+    /// The distance to the [`SPACING_RANK`]-th neighbour of the row the last [`fan`] took
+    /// (`None` for a shorter row).
+    pub fn sixth(&self) -> Option<f32> {
+        self.row.get(SPACING_RANK - 1).map(|r| r.1)
+    }
+}
+
+/// The half-side of a fan's square and the distance along the tangent plane within which its
+/// sheet neighbours lie, for the cloud's `longest` and the particle's `sixth` (its distance to
+/// the [`SPACING_RANK`]-th neighbour): where the film thins, its particles spread, and the
+/// reach of a neighbourhood follows the local spacing where that is the larger.
+fn reach(longest: f32, sixth: Option<f32>) -> (f32, f32) {
+    let longest = longest.max(sixth.map_or(0.0, |d| LONG_EDGE * d));
+    (longest, OPEN_FRACTION * longest)
+}
+
+/// Scene distance beyond which no neighbour enters the fan of a particle whose unit normal is
+/// `normal` (see [`reach`] for `longest` and `sixth`): its sheet neighbours lie nearer than
+/// `open` along the tangent plane and at most [`FAN_SLOPE`] × that off it. A row holding every
+/// neighbour within this distance gives the fan of the row of all neighbours; ∞ (no such
+/// bound) for a normal off unit length.
+pub fn fan_reach(longest: f32, sixth: Option<f32>, normal: Vec3) -> f32 {
+    if (normal.length_squared() - 1.0).abs() > 1e-4 {
+        return f32::INFINITY;
+    }
+    let (_, open) = reach(longest, sixth);
+    // A thousandth more covers the rounding of projected against straight distances.
+    open * (1.0 + FAN_SLOPE * FAN_SLOPE).sqrt() * 1.001
+}
+
 /// The fan of particle `i` with radius `r`: `longest`, the half-side of the square its cell is
 /// clipped to; `row`, its neighbours, nearest first; `s`, buffers.
 pub fn fan(
@@ -90,6 +121,8 @@ pub fn fan(
     s: &mut FanScratch,
 ) -> Fit {
     let (p, nrm) = (positions[i], normals[i]);
+    s.row.clear();
+    s.row.extend(row);
     if !(p.is_finite() && nrm.is_finite())
         || nrm.length_squared() < 0.5
         || longest.is_nan()
@@ -97,13 +130,7 @@ pub fn fan(
     {
         return Fit::NOTHING;
     }
-    // Where the film thins, its particles spread: the reach of a neighbourhood follows the
-    // local spacing (the distance to the SPACING_RANK-th neighbour) where that is the larger.
-    s.row.clear();
-    s.row.extend(row);
-    let local = s.row.get(SPACING_RANK - 1).map_or(0.0, |r| LONG_EDGE * r.1);
-    let longest = longest.max(local);
-    let open = OPEN_FRACTION * longest;
+    let (longest, open) = reach(longest, s.sixth());
     let nearest = sheet_neighbours(p, nrm, (positions, normals), open, &s.row, &mut s.near);
     let near = &s.near;
     if near.len() < 2 {

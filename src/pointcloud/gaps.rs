@@ -53,7 +53,7 @@ pub use super::area::{
 use super::clip::{EdgeClip, NO_CLIP};
 use super::estimate::median_positive;
 pub use super::fan::{EDGE_REACH, GAP_MARGIN, LONG_EDGE, OPEN_FRACTION, SPACING_RANK};
-use super::fan::{FanScratch, Fit, fan};
+use super::fan::{FanScratch, Fit, fan, fan_reach};
 use super::knn::{KnnTable, PointIndex};
 
 /// Most particles the spacing's median is taken over (evenly strided).
@@ -162,20 +162,24 @@ pub fn fit_radii_clipped(
     fit_radii_looking(index, positions, normals, radii, table, own, look)
 }
 
-/// Which particles the fit looks at again among their [`WIDE_NEIGHBOURS`] nearest.
+/// Which particles the fit looks at again among their [`WIDE_NEIGHBOURS`] nearest, and how.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum SecondLook {
     /// Those whose verdict their [`FAN_NEIGHBOURS`]-neighbour hull bounded, among their
     /// [`MIDDLE_NEIGHBOURS`] nearest first, and among their [`WIDE_NEIGHBOURS`] nearest those
-    /// still bounded. On the Fibonacci sample bubble all of its 32 % bounded are settled
-    /// among 24 (CPU of the whole 1M preview ≈ 0.77×), the same radii on the real frames in
-    /// tests/data, but not on the double dam break (a 3D liquid cloud drawn as film): not the
-    /// default until that is understood.
+    /// still bounded. Not the same radii as [`SecondLook::Bounded`] where more than
+    /// [`MIDDLE_NEIGHBOURS`] particles lie within a fan's reach: on the double dam break (a
+    /// 3D liquid cloud drawn as film), 8 of 4,732 radii (tests/fit_second_look.rs).
     WhereItCanChange,
-    /// All of those among their [`WIDE_NEIGHBOURS`] nearest at once (the default, and the
-    /// reference the tests hold the middle look to).
+    /// All of those among their [`WIDE_NEIGHBOURS`] nearest (the default), searched only as
+    /// far as a fan can take a neighbour (√2 × its open distance), which gives the same fan
+    /// as the whole row: where fewer than [`WIDE_NEIGHBOURS`] lie that near (on a film, about
+    /// 30), the search is shorter. Rows that cannot be shown the same are searched whole.
     #[default]
     Bounded,
+    /// As [`SecondLook::Bounded`], every row searched whole: the reference the tests hold the
+    /// shorter searches to.
+    BoundedWholeRows,
 }
 
 /// [`fit_radii_clipped`] with the particles looked at again chosen by `look`.
@@ -210,28 +214,34 @@ pub fn fit_radii_looking(
         let row = &mut row.filter(|(j, _)| !drifting(*j as usize));
         fan(i, positions, normals, radii[i].min(cap), longest, row, s)
     };
+    // The first look, keeping each particle's distance to its SPACING_RANK-th neighbour.
+    let first = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
+        let f = fit(s, i, row);
+        (f, if drifting(i) { None } else { s.sixth() })
+    };
     let order: Vec<u32> = (0..n as u32).collect();
-    let mut fits = vec![Fit::Isolated(f32::INFINITY); n];
+    let mut looked = vec![(Fit::Isolated(f32::INFINITY), None); n];
     match table {
         Some(t) => {
             refit_in_order(
                 &order,
-                &mut fits,
+                &mut looked,
                 |_, _| true,
-                |s, i| fit(s, i, &mut t.row(i)),
+                |s, i| first(s, i, &mut t.row(i)),
             );
         }
         None => {
             for start in (0..n).step_by(CHUNK) {
                 let rows = start..(start + CHUNK).min(n);
                 let t = KnnTable::build_rows(index, positions, FAN_NEIGHBOURS, rows.clone());
-                let pick = |i: usize, _: &Fit| rows.contains(&i);
-                refit_in_order(&order, &mut fits, pick, |s, i| {
-                    fit(s, i, &mut t.row(i - start))
+                let pick = |i: usize, _: &_| rows.contains(&i);
+                refit_in_order(&order, &mut looked, pick, |s, i| {
+                    first(s, i, &mut t.row(i - start))
                 });
             }
         }
     }
+    let (mut fits, sixth): (Vec<Fit>, Vec<Option<f32>>) = looked.into_iter().unzip();
     // An edge seen among the nearest few may be a seam of an anisotropic sampling, with film
     // beyond the next rows, and the hull of a lopsided neighbourhood may stop short of film
     // that goes on: look again with more neighbours before trimming or cutting.
@@ -251,7 +261,27 @@ pub fn fit_radii_looking(
     if look == SecondLook::WhereItCanChange {
         middle_looks = refit_in_order(&order, &mut fits, again, wider(MIDDLE_NEIGHBOURS));
     }
-    let wide_looks = refit_in_order(&order, &mut fits, again, wider(WIDE_NEIGHBOURS));
+    let wide_looks = if look == SecondLook::Bounded {
+        let within = |s: &mut FanScratch, i: usize| {
+            if drifting(i) {
+                return Fit::Isolated(f32::INFINITY);
+            }
+            match wide_row(
+                index,
+                (positions, normals[i]),
+                i,
+                longest,
+                sixth[i],
+                &drifting,
+            ) {
+                Some(row) => fit(s, i, &mut row.into_iter()),
+                None => wider(WIDE_NEIGHBOURS)(s, i),
+            }
+        };
+        refit_in_order(&order, &mut fits, again, within)
+    } else {
+        refit_in_order(&order, &mut fits, again, wider(WIDE_NEIGHBOURS))
+    };
     let (report, clips) = apply(radii, fits, cap, own);
     let report = GapReport {
         middle_looks,
@@ -262,16 +292,54 @@ pub fn fit_radii_looking(
     (report, clips)
 }
 
+/// The row of particle `i` (at `positions[i]`, unit normal `normal`) that gives the fan its
+/// [`WIDE_NEIGHBOURS`] nearest would: its nearest within [`fan_reach`] of it, at most
+/// [`WIDE_NEIGHBOURS`], found for the `sixth` (its distance to the [`SPACING_RANK`]-th
+/// neighbour not `drifting`) of its first look. `None` when that row cannot be shown to be
+/// the same: it holds fewer than [`SPACING_RANK`] particles not drifting, or the
+/// [`SPACING_RANK`]-th of them sets a longer reach than it was searched within, or two of its
+/// particles lie at one distance.
+fn wide_row(
+    index: &PointIndex,
+    (positions, normal): (&[Vec3], Vec3),
+    i: usize,
+    longest: f32,
+    sixth: Option<f32>,
+    drifting: &dyn Fn(usize) -> bool,
+) -> Option<Vec<(u32, f32)>> {
+    let searched = fan_reach(longest, sixth, normal);
+    if !searched.is_finite() {
+        return None;
+    }
+    let p = positions[i];
+    let row = index.nearest_within_excluding(p, WIDE_NEIGHBOURS, searched, i as u32);
+    // Neighbours at one distance may come in another order than the whole row's, and a fan
+    // taken in another order may differ in the last bits.
+    if row.windows(2).any(|w| w[0].1 == w[1].1) {
+        return None;
+    }
+    if row.len() == WIDE_NEIGHBOURS {
+        // The radius cut nothing: this is the whole row of the WIDE_NEIGHBOURS nearest.
+        return Some(row);
+    }
+    let sixth = row
+        .iter()
+        .filter(|(j, _)| !drifting(*j as usize))
+        .nth(SPACING_RANK - 1)?
+        .1;
+    (fan_reach(longest, Some(sixth), normal) <= searched).then_some(row)
+}
+
 /// Sets `fits[i]` to `refit(scratch, i)` for every particle `i` that `pick(i, &fits[i])`, in
 /// parallel, taking the particles in `order` (every index once); returns how many.
-fn refit_in_order(
+fn refit_in_order<T: Send>(
     order: &[u32],
-    fits: &mut [Fit],
-    pick: impl Fn(usize, &Fit) -> bool,
-    refit: impl Fn(&mut FanScratch, usize) -> Fit + Sync + Send,
+    fits: &mut [T],
+    pick: impl Fn(usize, &T) -> bool,
+    refit: impl Fn(&mut FanScratch, usize) -> T + Sync + Send,
 ) -> usize {
-    let mut slots: Vec<Option<&mut Fit>> = fits.iter_mut().map(Some).collect();
-    let todo: Vec<(usize, &mut Fit)> = order
+    let mut slots: Vec<Option<&mut T>> = fits.iter_mut().map(Some).collect();
+    let todo: Vec<(usize, &mut T)> = order
         .iter()
         .map(|&i| i as usize)
         .filter_map(|i| slots.get_mut(i)?.take().map(|f| (i, f)))
@@ -435,15 +503,19 @@ mod tests {
         assert_eq!(a, b);
         let same = |x: &[f32], y: &[f32]| x.iter().zip(y).all(|(x, y)| x.to_bits() == y.to_bits());
         assert!(same(&sliced, &whole));
-        // The middle look fits the rule before's radii and cuts, the hole's rim and the free
-        // edges included (tests/fit_second_look.rs does the same on real frames).
-        let mut before = vec![0.55; pos.len()];
-        let look = SecondLook::Bounded;
-        let c = fit_radii_looking(&index, &pos, &normals, &mut before, None, &[], look);
-        let mut new = vec![0.55; pos.len()];
-        let look = SecondLook::WhereItCanChange;
-        let d = fit_radii_looking(&index, &pos, &normals, &mut new, None, &[], look);
+        // The middle look and the default's shorter searches fit the whole rows' radii and
+        // cuts, the hole's rim and the free edges included (tests/fit_second_look.rs does the
+        // same on real frames).
+        let looking = |look| {
+            let mut r = vec![0.55; pos.len()];
+            let fit = fit_radii_looking(&index, &pos, &normals, &mut r, None, &[], look);
+            (r, fit)
+        };
+        let (before, c) = looking(SecondLook::BoundedWholeRows);
+        let (new, d) = looking(SecondLook::WhereItCanChange);
         assert!(same(&before, &new) && c.1 == d.1);
+        let (short, e) = looking(SecondLook::Bounded);
+        assert!(same(&before, &short) && c.1 == e.1 && c.0 == e.0);
         assert_eq!(
             (c.0.grown, c.0.trimmed, c.0.edge),
             (a.grown, a.trimmed, a.edge)
