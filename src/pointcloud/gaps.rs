@@ -227,7 +227,7 @@ pub fn fit_radii_looking(
                 &order,
                 &mut looked,
                 |_, _| true,
-                |s, i| first(s, i, &mut t.row(i)),
+                |s, i, _| first(s, i, &mut t.row(i)),
             );
         }
         None => {
@@ -235,22 +235,21 @@ pub fn fit_radii_looking(
                 let rows = start..(start + CHUNK).min(n);
                 let t = KnnTable::build_rows(index, positions, FAN_NEIGHBOURS, rows.clone());
                 let pick = |i: usize, _: &_| rows.contains(&i);
-                refit_in_order(&order, &mut looked, pick, |s, i| {
+                refit_in_order(&order, &mut looked, pick, |s, i, _| {
                     first(s, i, &mut t.row(i - start))
                 });
             }
         }
     }
-    let (mut fits, sixth): (Vec<Fit>, Vec<Option<f32>>) = looked.into_iter().unzip();
     // An edge seen among the nearest few may be a seam of an anisotropic sampling, with film
     // beyond the next rows, and the hull of a lopsided neighbourhood may stop short of film
     // that goes on: look again with more neighbours before trimming or cutting.
-    let again = |_: usize, f: &Fit| match f {
+    let again = |_: usize, (f, _): &(Fit, Option<f32>)| match f {
         Fit::Isolated(_) => true,
         Fit::Sheet { bounded, .. } => *bounded,
     };
     let wider = |k: usize| {
-        move |s: &mut FanScratch, i: usize| {
+        move |s: &mut FanScratch, i: usize, _: Option<f32>| {
             let row = index.nearest_excluding(positions[i], k, i as u32);
             fit(s, i, &mut row.into_iter())
         }
@@ -259,30 +258,24 @@ pub fn fit_radii_looking(
     // are settled among their MIDDLE_NEIGHBOURS nearest, for less than half the cost.
     let mut middle_looks = 0;
     if look == SecondLook::WhereItCanChange {
-        middle_looks = refit_in_order(&order, &mut fits, again, wider(MIDDLE_NEIGHBOURS));
+        let middle = keep(wider(MIDDLE_NEIGHBOURS));
+        middle_looks = refit_in_order(&order, &mut looked, again, middle);
     }
     let wide_looks = if look == SecondLook::Bounded {
-        let within = |s: &mut FanScratch, i: usize| {
+        let within = |s: &mut FanScratch, i: usize, sixth: Option<f32>| {
             if drifting(i) {
                 return Fit::Isolated(f32::INFINITY);
             }
-            match wide_row(
-                index,
-                (positions, normals[i]),
-                i,
-                longest,
-                sixth[i],
-                &drifting,
-            ) {
+            match wide_row(index, (positions, normals[i]), i, longest, sixth, &drifting) {
                 Some(row) => fit(s, i, &mut row.into_iter()),
-                None => wider(WIDE_NEIGHBOURS)(s, i),
+                None => wider(WIDE_NEIGHBOURS)(s, i, sixth),
             }
         };
-        refit_in_order(&order, &mut fits, again, within)
+        refit_in_order(&order, &mut looked, again, keep(within))
     } else {
-        refit_in_order(&order, &mut fits, again, wider(WIDE_NEIGHBOURS))
+        refit_in_order(&order, &mut looked, again, keep(wider(WIDE_NEIGHBOURS)))
     };
-    let (report, clips) = apply(radii, fits, cap, own);
+    let (report, clips) = apply(radii, looked.into_iter().map(|(f, _)| f), cap, own);
     let report = GapReport {
         middle_looks,
         wide_looks,
@@ -330,13 +323,22 @@ fn wide_row(
     (fan_reach(longest, Some(sixth), normal) <= searched).then_some(row)
 }
 
-/// Sets `fits[i]` to `refit(scratch, i)` for every particle `i` that `pick(i, &fits[i])`, in
+/// A later look, `look(scratch, i, sixth)`, as a [`refit_in_order`] on the first look's
+/// verdicts and distances to the [`SPACING_RANK`]-th neighbour, which it keeps.
+fn keep<L>(look: L) -> impl Fn(&mut FanScratch, usize, &(Fit, Option<f32>)) -> (Fit, Option<f32>)
+where
+    L: Fn(&mut FanScratch, usize, Option<f32>) -> Fit,
+{
+    move |s, i, old| (look(s, i, old.1), old.1)
+}
+
+/// Sets `fits[i]` to `refit(scratch, i, &fits[i])` for every particle `i` that `pick(i, &fits[i])`, in
 /// parallel, taking the particles in `order` (every index once); returns how many.
 fn refit_in_order<T: Send>(
     order: &[u32],
     fits: &mut [T],
     pick: impl Fn(usize, &T) -> bool,
-    refit: impl Fn(&mut FanScratch, usize) -> T + Sync + Send,
+    refit: impl Fn(&mut FanScratch, usize, &T) -> T + Sync + Send,
 ) -> usize {
     let mut slots: Vec<Option<&mut T>> = fits.iter_mut().map(Some).collect();
     let todo: Vec<(usize, &mut T)> = order
@@ -348,15 +350,20 @@ fn refit_in_order<T: Send>(
     let count = todo.len();
     todo.into_par_iter()
         .with_min_len(512)
-        .for_each_init(FanScratch::default, |s, (i, f)| *f = refit(s, i));
+        .for_each_init(FanScratch::default, |s, (i, f)| *f = refit(s, i, f));
     count
 }
 
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×
 /// the particles' own sizes `own` where known: empty or 0 for unknown); returns the edge cuts.
-fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> (GapReport, Vec<EdgeClip>) {
+fn apply(
+    radii: &mut [f32],
+    fits: impl Iterator<Item = Fit>,
+    cap: f32,
+    own: &[f32],
+) -> (GapReport, Vec<EdgeClip>) {
     let mut report = GapReport::default();
-    let mut clips = vec![NO_CLIP; fits.len()];
+    let mut clips = vec![NO_CLIP; radii.len()];
     for (i, (r, fit)) in radii.iter_mut().zip(fits).enumerate() {
         let own = own.get(i).copied().filter(|o| *o > 0.0);
         let new = match fit {
