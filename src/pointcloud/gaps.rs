@@ -40,8 +40,8 @@
 //! [`SecondLook`]).
 //!
 //! Cost: one k-nearest-neighbour search (k = [`FAN_NEIGHBOURS`], in slices unless a table is
-//! given) plus O(k²) a particle, parallel; bounded fans again with k = [`MIDDLE_NEIGHBOURS`],
-//! then [`WIDE_NEIGHBOURS`].
+//! given) plus O(k²) a particle, parallel; bounded fans again with up to [`WIDE_NEIGHBOURS`],
+//! searched only as far as a fan can take a neighbour (see [`SecondLook::Bounded`]).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -53,8 +53,10 @@ pub use super::area::{
 use super::clip::{EdgeClip, NO_CLIP};
 use super::estimate::median_positive;
 pub use super::fan::{EDGE_REACH, GAP_MARGIN, LONG_EDGE, OPEN_FRACTION, SPACING_RANK};
-use super::fan::{FanScratch, Fit, fan, fan_reach};
+use super::fan::{FanScratch, Fit, fan};
 use super::knn::{KnnTable, PointIndex};
+use super::looks::{Cloud, refit_where, second_looks};
+pub use super::looks::{MIDDLE_NEIGHBOURS, SecondLook, WIDE_NEIGHBOURS};
 
 /// Most particles the spacing's median is taken over (evenly strided).
 const SPACING_SAMPLE: usize = 65_536;
@@ -101,14 +103,6 @@ impl std::fmt::Display for GapReport {
 
 /// Neighbours a fan is built from.
 pub const FAN_NEIGHBOURS: usize = 12;
-
-/// Neighbours a particle that looks like an edge among [`FAN_NEIGHBOURS`] is looked at again
-/// with.
-pub const WIDE_NEIGHBOURS: usize = 64;
-
-/// Neighbours a particle whose fan its [`FAN_NEIGHBOURS`] nearest bound is looked at with
-/// first, before [`WIDE_NEIGHBOURS`] (see [`SecondLook::WhereItCanChange`]).
-pub const MIDDLE_NEIGHBOURS: usize = 24;
 
 /// Rows of neighbours searched at a time when no table is given (12 neighbours × 8 bytes ×
 /// 64k rows ≈ 6 MiB), so no whole table is held.
@@ -162,26 +156,6 @@ pub fn fit_radii_clipped(
     fit_radii_looking(index, positions, normals, radii, table, own, look)
 }
 
-/// Which particles the fit looks at again among their [`WIDE_NEIGHBOURS`] nearest, and how.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub enum SecondLook {
-    /// Those whose verdict their [`FAN_NEIGHBOURS`]-neighbour hull bounded, among their
-    /// [`MIDDLE_NEIGHBOURS`] nearest first, and among their [`WIDE_NEIGHBOURS`] nearest those
-    /// still bounded. Not the same radii as [`SecondLook::Bounded`] where more than
-    /// [`MIDDLE_NEIGHBOURS`] particles lie within a fan's reach: on the double dam break (a
-    /// 3D liquid cloud drawn as film), 8 of 4,732 radii (tests/fit_second_look.rs).
-    WhereItCanChange,
-    /// All of those among their [`WIDE_NEIGHBOURS`] nearest (the default), searched only as
-    /// far as a fan can take a neighbour (√2 × its open distance), which gives the same fan
-    /// as the whole row: where fewer than [`WIDE_NEIGHBOURS`] lie that near (on a film, about
-    /// 30), the search is shorter. Rows that cannot be shown the same are searched whole.
-    #[default]
-    Bounded,
-    /// As [`SecondLook::Bounded`], every row searched whole: the reference the tests hold the
-    /// shorter searches to.
-    BoundedWholeRows,
-}
-
 /// [`fit_radii_clipped`] with the particles looked at again chosen by `look`.
 pub fn fit_radii_looking(
     index: &PointIndex,
@@ -219,12 +193,10 @@ pub fn fit_radii_looking(
         let f = fit(s, i, row);
         (f, if drifting(i) { None } else { s.sixth() })
     };
-    let order: Vec<u32> = (0..n as u32).collect();
     let mut looked = vec![(Fit::Isolated(f32::INFINITY), None); n];
     match table {
         Some(t) => {
-            refit_in_order(
-                &order,
+            refit_where(
                 &mut looked,
                 |_, _| true,
                 |s, i, _| first(s, i, &mut t.row(i)),
@@ -235,46 +207,21 @@ pub fn fit_radii_looking(
                 let rows = start..(start + CHUNK).min(n);
                 let t = KnnTable::build_rows(index, positions, FAN_NEIGHBOURS, rows.clone());
                 let pick = |i: usize, _: &_| rows.contains(&i);
-                refit_in_order(&order, &mut looked, pick, |s, i, _| {
+                refit_where(&mut looked, pick, |s, i, _| {
                     first(s, i, &mut t.row(i - start))
                 });
             }
         }
     }
-    // An edge seen among the nearest few may be a seam of an anisotropic sampling, with film
-    // beyond the next rows, and the hull of a lopsided neighbourhood may stop short of film
-    // that goes on: look again with more neighbours before trimming or cutting.
-    let again = |_: usize, (f, _): &(Fit, Option<f32>)| match f {
-        Fit::Isolated(_) => true,
-        Fit::Sheet { bounded, .. } => *bounded,
+    let cloud = Cloud {
+        index,
+        positions,
+        normals,
+        longest,
+        drifting: &drifting,
+        fit: &fit,
     };
-    let wider = |k: usize| {
-        move |s: &mut FanScratch, i: usize, _: Option<f32>| {
-            let row = index.nearest_excluding(positions[i], k, i as u32);
-            fit(s, i, &mut row.into_iter())
-        }
-    };
-    // Most particles the nearest twelve's hull bounds (a first-ring neighbour on that hull)
-    // are settled among their MIDDLE_NEIGHBOURS nearest, for less than half the cost.
-    let mut middle_looks = 0;
-    if look == SecondLook::WhereItCanChange {
-        let middle = keep(wider(MIDDLE_NEIGHBOURS));
-        middle_looks = refit_in_order(&order, &mut looked, again, middle);
-    }
-    let wide_looks = if look == SecondLook::Bounded {
-        let within = |s: &mut FanScratch, i: usize, sixth: Option<f32>| {
-            if drifting(i) {
-                return Fit::Isolated(f32::INFINITY);
-            }
-            match wide_row(index, (positions, normals[i]), i, longest, sixth, &drifting) {
-                Some(row) => fit(s, i, &mut row.into_iter()),
-                None => wider(WIDE_NEIGHBOURS)(s, i, sixth),
-            }
-        };
-        refit_in_order(&order, &mut looked, again, keep(within))
-    } else {
-        refit_in_order(&order, &mut looked, again, keep(wider(WIDE_NEIGHBOURS)))
-    };
+    let (middle_looks, wide_looks) = second_looks(&cloud, &mut looked, look);
     let (report, clips) = apply(radii, looked.into_iter().map(|(f, _)| f), cap, own);
     let report = GapReport {
         middle_looks,
@@ -283,75 +230,6 @@ pub fn fit_radii_looking(
         ..report
     };
     (report, clips)
-}
-
-/// The row of particle `i` (at `positions[i]`, unit normal `normal`) that gives the fan its
-/// [`WIDE_NEIGHBOURS`] nearest would: its nearest within [`fan_reach`] of it, at most
-/// [`WIDE_NEIGHBOURS`], found for the `sixth` (its distance to the [`SPACING_RANK`]-th
-/// neighbour not `drifting`) of its first look. `None` when that row cannot be shown to be
-/// the same: it holds fewer than [`SPACING_RANK`] particles not drifting, or the
-/// [`SPACING_RANK`]-th of them sets a longer reach than it was searched within, or two of its
-/// particles lie at one distance.
-fn wide_row(
-    index: &PointIndex,
-    (positions, normal): (&[Vec3], Vec3),
-    i: usize,
-    longest: f32,
-    sixth: Option<f32>,
-    drifting: &dyn Fn(usize) -> bool,
-) -> Option<Vec<(u32, f32)>> {
-    let searched = fan_reach(longest, sixth, normal);
-    if !searched.is_finite() {
-        return None;
-    }
-    let p = positions[i];
-    let row = index.nearest_within_excluding(p, WIDE_NEIGHBOURS, searched, i as u32);
-    // Neighbours at one distance may come in another order than the whole row's, and a fan
-    // taken in another order may differ in the last bits.
-    if row.windows(2).any(|w| w[0].1 == w[1].1) {
-        return None;
-    }
-    if row.len() == WIDE_NEIGHBOURS {
-        // The radius cut nothing: this is the whole row of the WIDE_NEIGHBOURS nearest.
-        return Some(row);
-    }
-    let sixth = row
-        .iter()
-        .filter(|(j, _)| !drifting(*j as usize))
-        .nth(SPACING_RANK - 1)?
-        .1;
-    (fan_reach(longest, Some(sixth), normal) <= searched).then_some(row)
-}
-
-/// A later look, `look(scratch, i, sixth)`, as a [`refit_in_order`] on the first look's
-/// verdicts and distances to the [`SPACING_RANK`]-th neighbour, which it keeps.
-fn keep<L>(look: L) -> impl Fn(&mut FanScratch, usize, &(Fit, Option<f32>)) -> (Fit, Option<f32>)
-where
-    L: Fn(&mut FanScratch, usize, Option<f32>) -> Fit,
-{
-    move |s, i, old| (look(s, i, old.1), old.1)
-}
-
-/// Sets `fits[i]` to `refit(scratch, i, &fits[i])` for every particle `i` that `pick(i, &fits[i])`, in
-/// parallel, taking the particles in `order` (every index once); returns how many.
-fn refit_in_order<T: Send>(
-    order: &[u32],
-    fits: &mut [T],
-    pick: impl Fn(usize, &T) -> bool,
-    refit: impl Fn(&mut FanScratch, usize, &T) -> T + Sync + Send,
-) -> usize {
-    let mut slots: Vec<Option<&mut T>> = fits.iter_mut().map(Some).collect();
-    let todo: Vec<(usize, &mut T)> = order
-        .iter()
-        .map(|&i| i as usize)
-        .filter_map(|i| slots.get_mut(i)?.take().map(|f| (i, f)))
-        .filter(|(i, f)| pick(*i, f))
-        .collect();
-    let count = todo.len();
-    todo.into_par_iter()
-        .with_min_len(512)
-        .for_each_init(FanScratch::default, |s, (i, f)| *f = refit(s, i, f));
-    count
 }
 
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×

@@ -18,6 +18,7 @@ mod fan;
 pub mod gaps;
 pub mod knn;
 pub mod liquid;
+mod looks;
 pub mod mesh;
 pub mod orient;
 pub mod span;
