@@ -214,6 +214,10 @@ pub fn off_sheet(nrm: Vec3, nj: Vec3, off: Vec3, flat: f32, slope: f32) -> bool 
     nj.dot(nrm).abs() < 0.5 || off.dot(nrm).abs() > slope * flat
 }
 
+/// How far off a particle's tangent plane a neighbour of its fan may lie, per unit distance
+/// along it ([`sheet_neighbours`]).
+pub const FAN_SLOPE: f32 = 1.0;
+
 /// The neighbours in `row` on the sheet of the particle at `p` with unit normal `nrm` (normals
 /// within 60°, not farther off its tangent plane than along it), nearer than `open`, as
 /// offsets in its tangent plane, into `near`; returns the distance to the nearest particle of
@@ -234,7 +238,7 @@ pub fn sheet_neighbours(
         let off = q - p;
         let flat = Vec2::new(off.dot(u), off.dot(v));
         nearest = nearest.min(d);
-        if off_sheet(nrm, nj, off, flat.length(), 1.0)
+        if off_sheet(nrm, nj, off, flat.length(), FAN_SLOPE)
             || flat.length_squared() == 0.0
             || flat.length() >= open
         {

@@ -32,50 +32,34 @@
 //! - **Adrift** particles, left past a rupture (see [`super::adrift`]), are drawn at their
 //!   own size and left out of the other particles' fans, so the film's last row is an edge.
 //!
-//! A particle that looks like an edge among its [`FAN_NEIGHBOURS`] nearest is looked at again
-//! among its [`WIDE_NEIGHBOURS`] nearest (a seam of an anisotropic sampling, where the next
-//! row lies beyond the nearest twelve, is no edge).
+//! A particle whose fan its [`FAN_NEIGHBOURS`] nearest bound (it looks like an edge, its cell
+//! or a rim midpoint reaches past their hull, its radius is trimmed) is looked at again among
+//! its [`WIDE_NEIGHBOURS`] nearest (a seam of an anisotropic sampling, where the next row lies beyond the nearest
+//! twelve, is no edge; on a Fibonacci sphere a third of the particles have a first-ring
+//! neighbour on their 12-neighbour hull, which 24 neighbours would settle: see
+//! [`SecondLook`]).
 //!
 //! Cost: one k-nearest-neighbour search (k = [`FAN_NEIGHBOURS`], in slices unless a table is
-//! given) plus O(k²) a particle, parallel; edges again with k = [`WIDE_NEIGHBOURS`].
+//! given) plus O(k²) a particle, parallel; bounded fans again with up to [`WIDE_NEIGHBOURS`],
+//! searched only as far as a fan can take a neighbour (see [`SecondLook::Bounded`]).
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 
 use super::adrift::adrift_flags;
 pub use super::area::{
     AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
 };
-use super::cell::{
-    CellScratch, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
-    sheet_neighbours, two_shortest, voronoi_cell_into,
-};
-use super::clip::{EdgeClip, NO_CLIP, reach_and_cut, to_3d};
+use super::clip::{EdgeClip, NO_CLIP};
 use super::estimate::median_positive;
+pub use super::fan::{EDGE_REACH, GAP_MARGIN, LONG_EDGE, OPEN_FRACTION, SPACING_RANK};
+use super::fan::{FanScratch, Fit, fan};
 use super::knn::{KnnTable, PointIndex};
-
-/// Half-side of the square a Voronoi cell is clipped to, as a multiple of the cloud's median
-/// distance to the [`SPACING_RANK`]-th nearest neighbour (on a hexagonal sampling of spacing d
-/// that distance is d; on a random one about 1.9 times the nearest-neighbour distance).
-pub const LONG_EDGE: f32 = 2.5;
-
-/// Sheet neighbours farther than this fraction of [`LONG_EDGE`] × spacing do not span film
-/// with the particle (a gap that wide is a hole or the space beyond an edge).
-pub const OPEN_FRACTION: f32 = 0.8;
-
-/// Which neighbour's distance measures the spacing for [`LONG_EDGE`].
-pub const SPACING_RANK: usize = 6;
+use super::looks::{Cloud, refit_where, second_looks};
+pub use super::looks::{MIDDLE_NEIGHBOURS, SecondLook, WIDE_NEIGHBOURS};
 
 /// Most particles the spacing's median is taken over (evenly strided).
 const SPACING_SAMPLE: usize = 65_536;
-
-/// Factor on the distance to a gap's centre a disk grows to (its blending weight there is then
-/// (1 − 1/1.15²)² ≈ 0.06, not zero).
-pub const GAP_MARGIN: f32 = 1.15;
-
-/// How far a disk may reach beyond the film its neighbours span, as a multiple of its spacing:
-/// open edges end half a spacing past their last particles.
-pub const EDGE_REACH: f32 = 0.5;
 
 /// Most a radius grows, as a multiple of the median radius.
 pub const MAX_GROWTH: f32 = 2.5;
@@ -89,6 +73,11 @@ pub struct GapReport {
     pub trimmed: usize,
     /// Particles on an open edge (trimmed or not).
     pub edge: usize,
+    /// Particles looked at again among their [`MIDDLE_NEIGHBOURS`] nearest (see
+    /// [`SecondLook`]).
+    pub middle_looks: usize,
+    /// Particles looked at again among their [`WIDE_NEIGHBOURS`] nearest.
+    pub wide_looks: usize,
     /// Particles adrift past a rupture ([`super::adrift`]), drawn at their own size.
     pub adrift: usize,
 }
@@ -97,8 +86,8 @@ impl std::fmt::Display for GapReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "splat radii fitted to the sampling: {} grown to close gaps, {} trimmed to the film the particles span, {} particles on open edges",
-            self.grown, self.trimmed, self.edge
+            "splat radii fitted to the sampling: {} grown to close gaps, {} trimmed to the film the particles span, {} particles on open edges ({} looked at again among their {MIDDLE_NEIGHBOURS} nearest, {} among their {WIDE_NEIGHBOURS})",
+            self.grown, self.trimmed, self.edge, self.middle_looks, self.wide_looks
         )?;
         if self.adrift > 0 {
             write!(
@@ -112,29 +101,8 @@ impl std::fmt::Display for GapReport {
     }
 }
 
-/// What one particle's neighbourhood says.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Fit {
-    /// On a sheet: grow to at least `need` (0: nothing to close), keep at most `most`; `edge`:
-    /// on the hull of its neighbourhood; `bounded`: the hull cut the cell or the radius (worth
-    /// a second look with more neighbours, whose hull may reach further).
-    Sheet {
-        need: f32,
-        most: f32,
-        edge: bool,
-        bounded: bool,
-        clip: EdgeClip,
-    },
-    /// No sheet neighbours: the distance to the nearest particle (∞ for none).
-    Isolated(f32),
-}
-
 /// Neighbours a fan is built from.
 pub const FAN_NEIGHBOURS: usize = 12;
-
-/// Neighbours a particle that looks like an edge among [`FAN_NEIGHBOURS`] is looked at again
-/// with.
-pub const WIDE_NEIGHBOURS: usize = 64;
 
 /// Rows of neighbours searched at a time when no table is given (12 neighbours × 8 bytes ×
 /// 64k rows ≈ 6 MiB), so no whole table is held.
@@ -184,6 +152,20 @@ pub fn fit_radii_clipped(
     table: Option<&KnnTable>,
     own: &[f32],
 ) -> (GapReport, Vec<EdgeClip>) {
+    let look = SecondLook::default();
+    fit_radii_looking(index, positions, normals, radii, table, own, look)
+}
+
+/// [`fit_radii_clipped`] with the particles looked at again chosen by `look`.
+pub fn fit_radii_looking(
+    index: &PointIndex,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    radii: &mut [f32],
+    table: Option<&KnnTable>,
+    own: &[f32],
+    look: SecondLook,
+) -> (GapReport, Vec<EdgeClip>) {
     let n = positions.len();
     if n < 3
         || normals.len() != n
@@ -206,51 +188,60 @@ pub fn fit_radii_clipped(
         let row = &mut row.filter(|(j, _)| !drifting(*j as usize));
         fan(i, positions, normals, radii[i].min(cap), longest, row, s)
     };
-    let fits: Vec<Fit> = match table {
-        Some(t) => (0..n)
-            .into_par_iter()
-            .with_min_len(512)
-            .map_init(FanScratch::default, |s, i| fit(s, i, &mut t.row(i)))
-            .collect(),
+    // The first look, keeping each particle's distance to its SPACING_RANK-th neighbour.
+    let first = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
+        let f = fit(s, i, row);
+        (f, if drifting(i) { None } else { s.sixth() })
+    };
+    let mut looked = vec![(Fit::Isolated(f32::INFINITY), None); n];
+    match table {
+        Some(t) => {
+            refit_where(
+                &mut looked,
+                |_, _| true,
+                |s, i, _| first(s, i, &mut t.row(i)),
+            );
+        }
         None => {
-            let mut fits = Vec::with_capacity(n);
             for start in (0..n).step_by(CHUNK) {
                 let rows = start..(start + CHUNK).min(n);
                 let t = KnnTable::build_rows(index, positions, FAN_NEIGHBOURS, rows.clone());
-                fits.par_extend(
-                    rows.into_par_iter()
-                        .with_min_len(512)
-                        .map_init(FanScratch::default, |s, i| fit(s, i, &mut t.row(i - start))),
-                );
+                let pick = |i: usize, _: &_| rows.contains(&i);
+                refit_where(&mut looked, pick, |s, i, _| {
+                    first(s, i, &mut t.row(i - start))
+                });
             }
-            fits
         }
+    }
+    let cloud = Cloud {
+        index,
+        positions,
+        normals,
+        longest,
+        drifting: &drifting,
+        fit: &fit,
     };
-    // An edge seen among the nearest few may be a seam of an anisotropic sampling, with film
-    // beyond the next rows, and the hull of a lopsided neighbourhood may stop short of film
-    // that goes on: look again with more neighbours before trimming or cutting.
-    let fits: Vec<Fit> = fits
-        .into_par_iter()
-        .enumerate()
-        .with_min_len(512)
-        .map_init(FanScratch::default, |s, (i, f)| match f {
-            Fit::Sheet { bounded: false, .. } => f,
-            _ => {
-                let row = index.nearest_excluding(positions[i], WIDE_NEIGHBOURS, i as u32);
-                fit(s, i, &mut row.into_iter())
-            }
-        })
-        .collect();
-    let (mut report, clips) = apply(radii, fits, cap, own);
-    report.adrift = adrift.iter().filter(|a| **a).count();
+    let (middle_looks, wide_looks) = second_looks(&cloud, &mut looked, look);
+    let (report, clips) = apply(radii, looked.into_iter().map(|(f, _)| f), cap, own);
+    let report = GapReport {
+        middle_looks,
+        wide_looks,
+        adrift: adrift.iter().filter(|a| **a).count(),
+        ..report
+    };
     (report, clips)
 }
 
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×
 /// the particles' own sizes `own` where known: empty or 0 for unknown); returns the edge cuts.
-fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> (GapReport, Vec<EdgeClip>) {
+fn apply(
+    radii: &mut [f32],
+    fits: impl Iterator<Item = Fit>,
+    cap: f32,
+    own: &[f32],
+) -> (GapReport, Vec<EdgeClip>) {
     let mut report = GapReport::default();
-    let mut clips = vec![NO_CLIP; fits.len()];
+    let mut clips = vec![NO_CLIP; radii.len()];
     for (i, (r, fit)) in radii.iter_mut().zip(fits).enumerate() {
         let own = own.get(i).copied().filter(|o| *o > 0.0);
         let new = match fit {
@@ -306,92 +297,6 @@ fn median_kth_distance(index: &PointIndex, positions: &[Vec3], k: usize) -> f32 
             .map(|r| r.1)
     });
     median_positive(d.collect::<Vec<f32>>().into_iter()).unwrap_or(0.0)
-}
-
-/// One worker's buffers for [`fan`] (reused particle after particle: no allocation a fan).
-#[derive(Debug, Default)]
-struct FanScratch {
-    row: Vec<(u32, f32)>,
-    near: Vec<Vec2>,
-    hull: Vec<Vec2>,
-    cell: CellScratch,
-}
-
-/// The fan of particle `i` with radius `r`: `longest`, the half-side of the square its cell is
-/// clipped to; `row`, its neighbours, nearest first; `s`, buffers.
-fn fan(
-    i: usize,
-    positions: &[Vec3],
-    normals: &[Vec3],
-    r: f32,
-    longest: f32,
-    row: &mut dyn Iterator<Item = (u32, f32)>,
-    s: &mut FanScratch,
-) -> Fit {
-    let (p, nrm) = (positions[i], normals[i]);
-    if !(p.is_finite() && nrm.is_finite())
-        || nrm.length_squared() < 0.5
-        || longest.is_nan()
-        || longest <= 0.0
-    {
-        return Fit::Sheet {
-            need: 0.0,
-            most: f32::INFINITY,
-            edge: false,
-            bounded: false,
-            clip: NO_CLIP,
-        };
-    }
-    // Where the film thins, its particles spread: the reach of a neighbourhood follows the
-    // local spacing (the distance to the SPACING_RANK-th neighbour) where that is the larger.
-    s.row.clear();
-    s.row.extend(row);
-    let local = s.row.get(SPACING_RANK - 1).map_or(0.0, |r| LONG_EDGE * r.1);
-    let longest = longest.max(local);
-    let open = OPEN_FRACTION * longest;
-    let nearest = sheet_neighbours(p, nrm, (positions, normals), open, &s.row, &mut s.near);
-    let near = &s.near;
-    if near.len() < 2 {
-        return Fit::Isolated(nearest);
-    }
-    let (d0, d1) = two_shortest(near);
-    let reach = EDGE_REACH * 0.5 * (d0 + d1);
-    // The film i's neighbours span around it, and i's share of it.
-    hull_with_origin_into(near, &mut s.cell, &mut s.hull);
-    let hull = &s.hull;
-    if hull.len() < 3 {
-        // A strand of particles in a line: no area to cover, half a spacing about each.
-        return Fit::Sheet {
-            need: 0.0,
-            most: reach,
-            edge: true,
-            bounded: true,
-            clip: NO_CLIP,
-        };
-    }
-    let (depth, row) = depth_in_hull(hull);
-    let (reach, cut) = reach_and_cut(hull, near, depth, row, reach, EDGE_REACH);
-    voronoi_cell_into(near, longest, &mut s.cell);
-    let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
-    let whole = farthest(&s.cell.poly);
-    clip_to_hull_into(hull, &mut s.cell);
-    let far = farthest(&s.cell.poly);
-    let rim = rim_midpoints(near, hull);
-    let (need, most, clip) = match cut {
-        Some((m, corner)) => {
-            let (u, v) = nrm.any_orthonormal_pair();
-            let need = GAP_MARGIN * far.max(rim).max(corner);
-            (need, need, to_3d(m, reach, u, v))
-        }
-        None => (GAP_MARGIN * far.max(rim), depth + reach, NO_CLIP),
-    };
-    Fit::Sheet {
-        need,
-        most,
-        edge: depth < 0.5 * reach,
-        bounded: far < 0.999 * whole || rim > far || most < r.max(need),
-        clip,
-    }
 }
 
 #[cfg(test)]
@@ -481,11 +386,30 @@ mod tests {
         let b = fit_radii_indexed(&index, &pos, &normals, &mut whole, Some(&table));
         assert!(a.grown > 0 && a.edge > 0, "{a:?}");
         assert_eq!(a, b);
+        let same = |x: &[f32], y: &[f32]| x.iter().zip(y).all(|(x, y)| x.to_bits() == y.to_bits());
+        assert!(same(&sliced, &whole));
+        // The middle look and the default's shorter searches fit the whole rows' radii and
+        // cuts, the hole's rim and the free edges included (tests/fit_second_look.rs does the
+        // same on real frames).
+        let looking = |look| {
+            let mut r = vec![0.55; pos.len()];
+            let fit = fit_radii_looking(&index, &pos, &normals, &mut r, None, &[], look);
+            (r, fit)
+        };
+        let (before, c) = looking(SecondLook::BoundedWholeRows);
+        let (new, d) = looking(SecondLook::WhereItCanChange);
+        assert!(same(&before, &new) && c.1 == d.1);
+        let (short, e) = looking(SecondLook::Bounded);
+        assert!(same(&before, &short) && c.1 == e.1 && c.0 == e.0);
+        assert_eq!(
+            (c.0.grown, c.0.trimmed, c.0.edge),
+            (a.grown, a.trimmed, a.edge)
+        );
         assert!(
-            sliced
-                .iter()
-                .zip(&whole)
-                .all(|(x, y)| x.to_bits() == y.to_bits())
+            c.0.wide_looks > d.0.wide_looks && d.0.wide_looks > 0,
+            "{:?} {:?}",
+            c.0,
+            d.0
         );
     }
 }

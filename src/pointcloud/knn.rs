@@ -122,7 +122,21 @@ impl PointIndex {
     /// `(index, distance)` with distances in scene units. Cost: O(k log n), also when many
     /// points coincide (coincident ones come in ascending index order).
     pub fn nearest_excluding(&self, q: Vec3, k: usize, exclude: u32) -> Vec<(u32, f32)> {
-        if self.finite == 0 || k == 0 {
+        self.nearest_within_excluding(q, k, f32::INFINITY, exclude)
+    }
+
+    /// [`PointIndex::nearest_excluding`] among the particles within `radius` of `q` (scene
+    /// units, inclusive) only: the first entries of the unbounded answer, all of those nearer
+    /// than `radius` when fewer than `k`. Cheaper than the unbounded search where fewer than
+    /// `k` lie within `radius`.
+    pub fn nearest_within_excluding(
+        &self,
+        q: Vec3,
+        k: usize,
+        radius: f32,
+        exclude: u32,
+    ) -> Vec<(u32, f32)> {
+        if self.finite == 0 || k == 0 || radius.is_nan() {
             return Vec::new();
         }
         let entries = self
@@ -134,11 +148,16 @@ impl PointIndex {
         let Some(n) = NonZeroUsize::new(want) else {
             return Vec::new();
         };
-        let found = self
-            .tree
-            .query(&q.to_array())
-            .nearest_n::<SquaredEuclidean<f32>>(n)
-            .execute();
+        let at = q.to_array();
+        let query = self.tree.query(&at);
+        let found = if radius.is_finite() {
+            query
+                .nearest_n::<SquaredEuclidean<f32>>(n)
+                .within::<SquaredEuclidean<f32>>(radius * radius)
+                .execute()
+        } else {
+            query.nearest_n::<SquaredEuclidean<f32>>(n).execute()
+        };
         let dist = |d: f32| d.max(0.0).sqrt();
         match &self.groups {
             None => found

@@ -1,0 +1,172 @@
+//! One particle's fan: its sheet neighbours projected onto its tangent plane, their hull, its
+//! Voronoi cell cut to that hull, and the verdict the radius fit ([`super::gaps`]) draws from
+//! them (see there).
+
+use glam::{Vec2, Vec3};
+
+use super::cell::{
+    CellScratch, FAN_SLOPE, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
+    sheet_neighbours, two_shortest, voronoi_cell_into,
+};
+use super::clip::{EdgeClip, NO_CLIP, reach_and_cut, to_3d};
+
+/// Half-side of the square a Voronoi cell is clipped to, as a multiple of the cloud's median
+/// distance to the [`SPACING_RANK`]-th nearest neighbour (on a hexagonal sampling of spacing d
+/// that distance is d; on a random one about 1.9 times the nearest-neighbour distance).
+pub const LONG_EDGE: f32 = 2.5;
+
+/// Sheet neighbours farther than this fraction of [`LONG_EDGE`] × spacing do not span film
+/// with the particle (a gap that wide is a hole or the space beyond an edge).
+pub const OPEN_FRACTION: f32 = 0.8;
+
+/// Which neighbour's distance measures the spacing for [`LONG_EDGE`].
+pub const SPACING_RANK: usize = 6;
+
+/// Factor on the distance to a gap's centre a disk grows to (its blending weight there is then
+/// (1 − 1/1.15²)² ≈ 0.06, not zero).
+pub const GAP_MARGIN: f32 = 1.15;
+
+/// How far a disk may reach beyond the film its neighbours span, as a multiple of its spacing:
+/// open edges end half a spacing past their last particles.
+pub const EDGE_REACH: f32 = 0.5;
+
+/// What one particle's neighbourhood says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fit {
+    /// On a sheet: grow to at least `need` (0: nothing to close), keep at most `most`; `edge`:
+    /// on the hull of its neighbourhood; `bounded`: the hull cut the cell or the radius (worth
+    /// a second look with more neighbours, whose hull may reach further).
+    Sheet {
+        need: f32,
+        most: f32,
+        edge: bool,
+        bounded: bool,
+        clip: EdgeClip,
+    },
+    /// No sheet neighbours: the distance to the nearest particle (∞ for none).
+    Isolated(f32),
+}
+
+impl Fit {
+    /// Nothing to change, nothing to look at again (a particle without a valid normal).
+    const NOTHING: Fit = Fit::Sheet {
+        need: 0.0,
+        most: f32::INFINITY,
+        edge: false,
+        bounded: false,
+        clip: NO_CLIP,
+    };
+
+    /// A particle in a strand (its neighbours in a line): kept within `reach`, an edge.
+    fn strand(reach: f32) -> Fit {
+        Fit::Sheet {
+            need: 0.0,
+            most: reach,
+            edge: true,
+            bounded: true,
+            clip: NO_CLIP,
+        }
+    }
+}
+
+/// One worker's buffers for [`fan`] (reused particle after particle: no allocation a fan).
+#[derive(Debug, Default)]
+pub struct FanScratch {
+    row: Vec<(u32, f32)>,
+    near: Vec<Vec2>,
+    hull: Vec<Vec2>,
+    cell: CellScratch,
+}
+
+impl FanScratch {
+    /// The distance to the [`SPACING_RANK`]-th neighbour of the row the last [`fan`] took
+    /// (`None` for a shorter row).
+    pub fn sixth(&self) -> Option<f32> {
+        self.row.get(SPACING_RANK - 1).map(|r| r.1)
+    }
+}
+
+/// The half-side of a fan's square and the distance along the tangent plane within which its
+/// sheet neighbours lie, for the cloud's `longest` and the particle's `sixth` (its distance to
+/// the [`SPACING_RANK`]-th neighbour): where the film thins, its particles spread, and the
+/// reach of a neighbourhood follows the local spacing where that is the larger.
+fn reach(longest: f32, sixth: Option<f32>) -> (f32, f32) {
+    let longest = longest.max(sixth.map_or(0.0, |d| LONG_EDGE * d));
+    (longest, OPEN_FRACTION * longest)
+}
+
+/// Scene distance beyond which no neighbour enters the fan of a particle whose unit normal is
+/// `normal` (see [`reach`] for `longest` and `sixth`): its sheet neighbours lie nearer than
+/// `open` along the tangent plane and at most [`FAN_SLOPE`] × that off it. A row holding every
+/// neighbour within this distance gives the fan of the row of all neighbours; ∞ (no such
+/// bound) for a normal off unit length.
+pub fn fan_reach(longest: f32, sixth: Option<f32>, normal: Vec3) -> f32 {
+    if (normal.length_squared() - 1.0).abs() > 1e-4 {
+        return f32::INFINITY;
+    }
+    let (_, open) = reach(longest, sixth);
+    // A thousandth more covers the rounding of projected against straight distances.
+    open * (1.0 + FAN_SLOPE * FAN_SLOPE).sqrt() * 1.001
+}
+
+/// The fan of particle `i` with radius `r`: `longest`, the half-side of the square its cell is
+/// clipped to; `row`, its neighbours, nearest first; `s`, buffers.
+pub fn fan(
+    i: usize,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    r: f32,
+    longest: f32,
+    row: &mut dyn Iterator<Item = (u32, f32)>,
+    s: &mut FanScratch,
+) -> Fit {
+    let (p, nrm) = (positions[i], normals[i]);
+    s.row.clear();
+    s.row.extend(row);
+    if !(p.is_finite() && nrm.is_finite())
+        || nrm.length_squared() < 0.5
+        || longest.is_nan()
+        || longest <= 0.0
+    {
+        return Fit::NOTHING;
+    }
+    let (longest, open) = reach(longest, s.sixth());
+    let nearest = sheet_neighbours(p, nrm, (positions, normals), open, &s.row, &mut s.near);
+    let near = &s.near;
+    if near.len() < 2 {
+        return Fit::Isolated(nearest);
+    }
+    let (d0, d1) = two_shortest(near);
+    let reach = EDGE_REACH * 0.5 * (d0 + d1);
+    // The film i's neighbours span around it, and i's share of it.
+    hull_with_origin_into(near, &mut s.cell, &mut s.hull);
+    let hull = &s.hull;
+    if hull.len() < 3 {
+        // A strand of particles in a line: no area to cover, half a spacing about each.
+        return Fit::strand(reach);
+    }
+    let (depth, row) = depth_in_hull(hull);
+    let (reach, cut) = reach_and_cut(hull, near, depth, row, reach, EDGE_REACH);
+    voronoi_cell_into(near, longest, &mut s.cell);
+    let farthest = |c: &[Vec2]| c.iter().map(|c| c.length()).fold(0.0f32, f32::max);
+    let whole = farthest(&s.cell.poly);
+    clip_to_hull_into(hull, &mut s.cell);
+    let far = farthest(&s.cell.poly);
+    let rim = rim_midpoints(near, hull);
+    let (need, most, clip) = match cut {
+        Some((m, corner)) => {
+            let (u, v) = nrm.any_orthonormal_pair();
+            let need = GAP_MARGIN * far.max(rim).max(corner);
+            (need, need, to_3d(m, reach, u, v))
+        }
+        None => (GAP_MARGIN * far.max(rim), depth + reach, NO_CLIP),
+    };
+    let trims = most < r.max(need);
+    Fit::Sheet {
+        need,
+        most,
+        edge: depth < 0.5 * reach,
+        bounded: far < 0.999 * whole || rim > far || trims,
+        clip,
+    }
+}
