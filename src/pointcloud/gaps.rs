@@ -263,7 +263,9 @@ fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> (GapReport
             } => {
                 report.edge += usize::from(edge);
                 clips[i] = clip;
-                r.max(need.min(cap)).min(most)
+                // Never trimmed below the particle's own area, which holds that much film
+                // (an edge's cut still bounds how far it reaches past the edge).
+                r.max(need.min(cap)).min(most).max(own.unwrap_or(0.0))
             }
             Fit::Isolated(nearest) => match own {
                 Some(o) => o,
