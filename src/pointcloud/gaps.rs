@@ -124,6 +124,8 @@ enum Fit {
         edge: bool,
         bounded: bool,
         clip: EdgeClip,
+        /// Its neighbours lie in a line: never trimmed below its own area's radius.
+        strand: bool,
     },
     /// No sheet neighbours: the distance to the nearest particle (∞ for none).
     Isolated(f32),
@@ -259,13 +261,13 @@ fn apply(radii: &mut [f32], fits: Vec<Fit>, cap: f32, own: &[f32]) -> (GapReport
                 most,
                 edge,
                 clip,
+                strand,
                 ..
             } => {
                 report.edge += usize::from(edge);
                 clips[i] = clip;
-                // Never trimmed below the particle's own area, which holds that much film
-                // (an edge's cut still bounds how far it reaches past the edge).
-                r.max(need.min(cap)).min(most).max(own.unwrap_or(0.0))
+                let floor = if strand { own.unwrap_or(0.0) } else { 0.0 };
+                r.max(need.min(cap)).min(most).max(floor)
             }
             Fit::Isolated(nearest) => match own {
                 Some(o) => o,
@@ -342,6 +344,7 @@ fn fan(
             edge: false,
             bounded: false,
             clip: NO_CLIP,
+            strand: false,
         };
     }
     // Where the film thins, its particles spread: the reach of a neighbourhood follows the
@@ -362,13 +365,15 @@ fn fan(
     hull_with_origin_into(near, &mut s.cell, &mut s.hull);
     let hull = &s.hull;
     if hull.len() < 3 {
-        // A strand of particles in a line: no area to cover, half a spacing about each.
+        // A strand of particles in a line: half a spacing about each, never less than its own
+        // area (the area holds that much film).
         return Fit::Sheet {
             need: 0.0,
             most: reach,
             edge: true,
             bounded: true,
             clip: NO_CLIP,
+            strand: true,
         };
     }
     let (depth, row) = depth_in_hull(hull);
@@ -393,6 +398,7 @@ fn fan(
         edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || most < r.max(need),
         clip,
+        strand: false,
     }
 }
 
