@@ -210,7 +210,7 @@ impl Cover {
 pub fn area_coverage(r: f32, own: f32) -> f32 {
     let h = COVER_SUPPORT * own;
     let q = r / h;
-    if !(q < 1.0) {
+    if q.is_nan() || q >= 1.0 {
         return 0.0;
     }
     7.0 / (COVER_SUPPORT * COVER_SUPPORT) * (1.0 - q).powi(4) * (1.0 + 4.0 * q)
