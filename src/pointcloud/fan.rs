@@ -42,6 +42,8 @@ pub enum Fit {
         edge: bool,
         bounded: bool,
         clip: EdgeClip,
+        /// Its neighbours lie in a line: never trimmed below its own area's radius.
+        strand: bool,
     },
     /// No sheet neighbours: the distance to the nearest particle (∞ for none).
     Isolated(f32),
@@ -55,6 +57,7 @@ impl Fit {
         edge: false,
         bounded: false,
         clip: NO_CLIP,
+        strand: false,
     };
 
     /// A particle in a strand (its neighbours in a line): kept within `reach`, an edge.
@@ -65,6 +68,7 @@ impl Fit {
             edge: true,
             bounded: true,
             clip: NO_CLIP,
+            strand: true,
         }
     }
 }
@@ -142,7 +146,8 @@ pub fn fan(
     hull_with_origin_into(near, &mut s.cell, &mut s.hull);
     let hull = &s.hull;
     if hull.len() < 3 {
-        // A strand of particles in a line: no area to cover, half a spacing about each.
+        // A strand of particles in a line: half a spacing about each, never less than its own
+        // area (the area holds that much film).
         return Fit::strand(reach);
     }
     let (depth, row) = depth_in_hull(hull);
@@ -168,5 +173,6 @@ pub fn fan(
         edge: depth < 0.5 * reach,
         bounded: far < 0.999 * whole || rim > far || trims,
         clip,
+        strand: false,
     }
 }

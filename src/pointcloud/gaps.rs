@@ -250,11 +250,13 @@ fn apply(
                 most,
                 edge,
                 clip,
+                strand,
                 ..
             } => {
                 report.edge += usize::from(edge);
                 clips[i] = clip;
-                r.max(need.min(cap)).min(most)
+                let floor = if strand { own.unwrap_or(0.0) } else { 0.0 };
+                r.max(need.min(cap)).min(most).max(floor)
             }
             Fit::Isolated(nearest) => match own {
                 Some(o) => o,
