@@ -14,6 +14,7 @@ use crate::io::CloudPart;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
 use crate::pointcloud::knn::{KnnTable, PointIndex};
+use crate::pointcloud::stats::median_nearest;
 use glam::Vec3;
 
 /// How near (in the part's median nearest-neighbour spacings) another part's particle lies to
@@ -86,7 +87,7 @@ pub(super) fn join_seams(
             positions: &r.cloud.positions,
             normals: r.cloud.normals.as_deref().unwrap_or_default(),
             clips: &r.clips,
-            spacing: median_spacing(r.table.as_ref()),
+            spacing: r.table.as_ref().map_or(0.0, median_nearest),
         })
         .collect();
     let groups = group(&pieces, bubbles);
@@ -126,19 +127,6 @@ fn joined_label(labels: &[&str]) -> String {
         [a, b, _, _, ..] => format!("{a} + {b} + {} more", labels.len() - 2),
         _ => labels.join(" + "),
     }
-}
-
-/// The median distance from a particle to its nearest neighbour in `table` (0 without one).
-fn median_spacing(table: Option<&KnnTable>) -> f32 {
-    let Some(t) = table else { return 0.0 };
-    let mut d: Vec<f32> = (0..t.len())
-        .filter_map(|i| t.row(i).next().map(|(_, d)| d))
-        .collect();
-    if d.is_empty() {
-        return 0.0;
-    }
-    let mid = d.len() / 2;
-    *d.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 /// The parts grouped into films: each group (part indices ascending; groups ordered by their

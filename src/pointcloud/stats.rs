@@ -1,7 +1,8 @@
 //! Summary statistics of a cloud, printed by `filmsplat info`.
 
 use super::PointCloud;
-use super::estimate::median_spacing;
+use super::estimate::{median_positive, median_spacing};
+use super::knn::KnnTable;
 use glam::Vec3;
 use std::fmt;
 
@@ -247,4 +248,11 @@ impl fmt::Display for CloudStats {
         }
         Ok(())
     }
+}
+
+/// Median distance from a particle to its nearest neighbour in `table` (its first row entry),
+/// over the finite, strictly positive ones; 0 when there is none.
+pub(crate) fn median_nearest(table: &KnnTable) -> f32 {
+    median_positive((0..table.len()).filter_map(|i| table.row(i).next().map(|(_, d)| d)))
+        .unwrap_or(0.0)
 }

@@ -29,6 +29,7 @@ use glam::Vec3;
 use super::PointCloud;
 use super::estimate::pca_normal;
 use super::knn::{KnnTable, PointIndex};
+use super::stats::median_nearest;
 use super::validate::keep_particles;
 
 /// Neighbours of the other copy searched around each particle.
@@ -98,6 +99,8 @@ struct Facing {
 struct Set<'a> {
     cloud: &'a PointCloud,
     index: PointIndex,
+    /// Each particle's [`NEIGHBOURS`] nearest in its own set.
+    table: KnnTable,
     /// Each particle's normal as its neighbours' positions give it (the plane of it and its
     /// [`NEIGHBOURS`] nearest, signed as its stored normal; the stored normal where they lie on
     /// no plane). A simulator's stored normals are smoothed over its kernel, and near a Plateau
@@ -113,28 +116,13 @@ struct Set<'a> {
 impl<'a> Set<'a> {
     fn new(cloud: &'a PointCloud) -> Self {
         let index = PointIndex::build(&cloud.positions);
-        let mut nn: Vec<f32> = cloud
-            .positions
-            .iter()
-            .enumerate()
-            .filter_map(|(i, p)| {
-                index
-                    .nearest_excluding(*p, 1, i as u32)
-                    .first()
-                    .map(|n| n.1)
-            })
-            .filter(|d| d.is_finite() && *d > 0.0)
-            .collect();
-        let spacing = if nn.is_empty() {
-            0.0
-        } else {
-            let mid = nn.len() / 2;
-            *nn.select_nth_unstable_by(mid, f32::total_cmp).1
-        };
-        let plane = plane_normals(cloud, &index);
+        let table = KnnTable::build_with(&index, &cloud.positions, NEIGHBOURS);
+        let spacing = median_nearest(&table);
+        let plane = plane_normals(cloud, &table);
         Set {
             cloud,
             index,
+            table,
             plane,
             spacing,
         }
@@ -227,26 +215,18 @@ impl Set<'_> {
     /// of the foam's interior missing at 1 spp without).
     fn inside(&self, on: &[bool], reach: f32) -> Vec<bool> {
         (0..on.len())
-            .map(|i| {
-                on[i]
-                    && self
-                        .index
-                        .nearest_excluding(self.cloud.positions[i], NEIGHBOURS, i as u32)
-                        .into_iter()
-                        .all(|(j, d)| d > reach || on[j as usize])
-            })
+            .map(|i| on[i] && self.table.row(i).all(|(j, d)| d > reach || on[j as usize]))
             .collect()
     }
 }
 
 /// The positions' normals of [`Set::plane`].
-fn plane_normals(cloud: &PointCloud, index: &PointIndex) -> Vec<Vec3> {
+fn plane_normals(cloud: &PointCloud, table: &KnnTable) -> Vec<Vec3> {
     let stored = cloud.normals.as_deref().unwrap_or_default();
-    let table = KnnTable::build_with(index, &cloud.positions, NEIGHBOURS);
     (0..cloud.len())
         .map(|i| {
             let s = stored.get(i).map_or(Vec3::ZERO, |n| n.normalize_or_zero());
-            match pca_normal(&cloud.positions, &table, i, NEIGHBOURS) {
+            match pca_normal(&cloud.positions, table, i, NEIGHBOURS) {
                 Some(n) if n.dot(s) < 0.0 => -n,
                 Some(n) => n,
                 None => s,
@@ -319,10 +299,10 @@ fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
     if moves.is_empty() || removed == 0 {
         return None;
     }
-    let mut stats = settle_on_wall(&mut sets[a], &moves)?;
+    let stats = settle_on_wall(&mut sets[a], &moves)?;
     remove(&mut sets[b], &drop);
-    let mut column = |k: usize| -> f32 {
-        let mut v: Vec<f32> = stats.iter_mut().map(|s| s[k]).collect();
+    let column = |k: usize| -> f32 {
+        let mut v: Vec<f32> = stats.iter().map(|s| s[k]).collect();
         median(&mut v)
     };
     Some(Wall {
