@@ -3,6 +3,9 @@
 //! moving (the move pass at ¼ of 960×540 in each side, 240×135, 1 spp), then let go: the first
 //! refinement (480×270 at 1 spp) and the final picture (960×540 at the scene's 4 spp).
 //!
+//! Then a sequence of three frames: the first picture of a new frame, built on demand and
+//! prepared ahead, against one final picture.
+//!
 //! `cargo bench --bench view_http` (1 000 000 and 100 000 particles), or
 //! `cargo bench --bench view_http -- 200000` for other counts. Prints frames per second and
 //! latencies, with the machine's load (`/proc/loadavg`) beside them.
@@ -163,6 +166,61 @@ fn bench(particles: usize) {
     thread.join().unwrap();
 }
 
+/// A sequence of the bubble (frames at sample times 0, ¼, ½): how long the first picture of a
+/// new frame takes (the move pass, 240x135), without and with the frame prepared ahead (the
+/// page asks `/api/prepare` for the next frame once the current one's final picture shows),
+/// against one final picture of a prepared frame (960x540 at the scene's 4 spp).
+fn next_frame(particles: usize) {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/bubble.toml"))
+        .unwrap()
+        .replace("particles = 200000", &format!("particles = {particles}"));
+    let frames = Frames {
+        labels: (0..3).map(|i| i.to_string()).collect(),
+        scene: Box::new(move |i| {
+            let mut d = SceneDesc::from_toml(&text, "bubble.toml")?;
+            d.input.time = Some(i as f32 * 0.25);
+            Ok((
+                d,
+                PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/samples")),
+            ))
+        }),
+        title: "bubble.toml".into(),
+    };
+    let app = App::new(frames, Token::fixed(TOKEN), u64::MAX).unwrap();
+    let stop = Arc::new(AtomicBool::new(false));
+    let server = Arc::new(Server::bind("127.0.0.1:0".parse().unwrap(), app, stop.clone()).unwrap());
+    let s = server.clone();
+    let thread = std::thread::spawn(move || s.run());
+    let mut c = TcpStream::connect(server.local_addr()).unwrap();
+    c.set_nodelay(true).unwrap();
+    let cam = camera(0.0);
+    let mut timed = |target: String| {
+        let t = Instant::now();
+        assert_eq!(get(&mut c, &target).0, 200, "{target}");
+        t.elapsed().as_secs_f64()
+    };
+    let single = timed(format!(
+        "/api/render?{cam}&w=960&h=540&pass=final&client=b&frame=0"
+    ));
+    let cold = timed(format!(
+        "/api/render?{cam}&w=240&h=135&pass=move&client=b&frame=1"
+    ));
+    let ahead = timed("/api/prepare?frame=2".to_string());
+    let warm = timed(format!(
+        "/api/render?{cam}&w=240&h=135&pass=move&client=b&frame=2"
+    ));
+    println!(
+        "{particles} particles, a new frame's first picture: {cold:.2} s as it is built ({:.2} × one final picture, {single:.2} s); \
+         prepared ahead ({ahead:.2} s while the last frame is looked at): {warm:.3} s ({:.3} ×) (load {})",
+        cold / single,
+        warm / single,
+        load()
+    );
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    drop(c);
+    thread.join().unwrap();
+}
+
 fn main() {
     let counts: Vec<usize> = std::env::args()
         .skip(1)
@@ -175,5 +233,6 @@ fn main() {
     };
     for n in counts {
         bench(n);
+        next_frame(n);
     }
 }

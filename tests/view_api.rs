@@ -35,6 +35,7 @@ fn every_route_but_the_icon_needs_the_exact_token() {
         "/api/render",
         "/api/save",
         "/api/camera",
+        "/api/prepare",
         "/nothing",
     ] {
         let r = get_no_token(s.addr, path);
@@ -288,4 +289,48 @@ fn copy_camera_at_a_frame_gives_a_camera_path_key_that_reads_back() {
     // A frame the server does not show is refused.
     let r = get(s.addr, &format!("/api/camera?{CAMERA}&frame=7"));
     assert_eq!(r.status, 400, "{}", r.text());
+}
+
+#[test]
+fn the_next_frame_prepared_ahead_gives_its_first_picture_without_a_build() {
+    use std::sync::atomic::Ordering::Relaxed;
+    let s = start_frames(frames(SCENE, 3), u64::MAX);
+    let builds = || s.stats().builds.load(Relaxed);
+    assert_eq!(builds(), 1);
+    let r = get(s.addr, "/api/prepare?frame=1");
+    assert_eq!((r.status, r.text().as_str()), (200, "built"));
+    assert!(r.header("X-Build-Ms").is_some());
+    assert_eq!(builds(), 2);
+    let r = get(s.addr, "/api/prepare?frame=1");
+    assert_eq!((r.status, r.text().as_str()), (200, "cached"));
+    // The picture of the prepared frame is rendered from it: no build.
+    let r = get(s.addr, &format!("/api/render?{CAMERA}&w=16&h=9&frame=1"));
+    assert_eq!(r.status, 200);
+    assert_eq!(builds(), 2);
+    // Its variant is the picture's: another primitive is another variant.
+    let r = get(s.addr, "/api/prepare?frame=1&primitive=sphere");
+    assert_eq!((r.status, r.text().as_str()), (200, "built"));
+    assert_eq!(builds(), 3);
+    let r = get(s.addr, "/api/prepare?frame=7");
+    assert_eq!(r.status, 400);
+    assert!(r.text().contains("frame"), "{}", r.text());
+}
+
+#[test]
+fn preparing_ahead_never_pushes_out_the_frame_on_screen() {
+    use std::sync::atomic::Ordering::Relaxed;
+    // A budget below one frame's size: the frame shown stays, the one ahead is not built.
+    let s = start_frames(frames(SCENE, 3), 1);
+    let r = get(s.addr, "/api/prepare?frame=1");
+    assert_eq!((r.status, r.text().as_str()), (200, "skipped"));
+    assert_eq!(s.stats().builds.load(Relaxed), 1);
+    let cached: Vec<usize> = s
+        .server
+        .app()
+        .session()
+        .cached()
+        .iter()
+        .map(|v| v.frame)
+        .collect();
+    assert_eq!(cached, vec![0]);
 }

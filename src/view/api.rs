@@ -225,6 +225,7 @@ impl App {
             )),
             "/api/camera" => self.camera_lines(req),
             "/api/render" => self.picture(req, peer, false),
+            "/api/prepare" => self.prepare(req),
             "/api/save" => self.picture(req, peer, true),
             _ => Err((404, format!("no such page: {}", req.path))),
         };
@@ -254,6 +255,22 @@ impl App {
             }
         };
         Ok(Response::new(200, "text/plain; charset=utf-8", text))
+    }
+
+    /// Prepares a variant ahead of its first picture (`frame`, `primitive`, `preset`, `view`
+    /// as for a picture): 200 with `built`, `cached` or `skipped` (the memory budget would not
+    /// keep it beside the prepared ones), and the seconds it took in `X-Build-Ms`.
+    fn prepare(&self, req: &Request) -> Result<Response, Refusal> {
+        let v = params::variant(req, self.session.frames())?;
+        let start = std::time::Instant::now();
+        let ahead = self.session.prepare_ahead(&v)?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(Response::new(
+            200,
+            "text/plain; charset=utf-8",
+            ahead.word().as_bytes().to_vec(),
+        )
+        .with("X-Build-Ms", format!("{ms:.1}")))
     }
 
     /// A picture (`save`: the full-quality download).

@@ -40,6 +40,28 @@ pub struct Stats {
     pub active: AtomicU64,
 }
 
+/// What [`Session::prepare_ahead`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ahead {
+    /// Prepared now.
+    Built,
+    /// Already prepared (or being prepared by another request, which this one waited for).
+    Cached,
+    /// Not prepared: keeping it would exceed the memory budget.
+    Skipped,
+}
+
+impl Ahead {
+    /// The word the API answers with.
+    pub fn word(self) -> &'static str {
+        match self {
+            Ahead::Built => "built",
+            Ahead::Cached => "cached",
+            Ahead::Skipped => "skipped",
+        }
+    }
+}
+
 /// Prepared variants and client flags.
 pub struct Session {
     /// Counters.
@@ -125,6 +147,35 @@ impl Session {
                 Err(e)
             }
         }
+    }
+
+    /// Prepares `v` ahead of its first picture (the page asks for the next frame of a
+    /// sequence while the current one is looked at), unless keeping it would push a prepared
+    /// variant out of the memory budget: [`Ahead::Skipped`] when the variants held plus the
+    /// largest of them (a frame of a sequence costs about what its neighbours do) exceed it.
+    ///
+    /// # Errors
+    /// As [`Session::built`].
+    pub fn prepare_ahead(&self, v: &Variant) -> Result<Ahead, Refusal> {
+        let sizes: Vec<u64> = {
+            let cache = lock(&self.cache);
+            if cache
+                .get(v)
+                .is_some_and(|s| s.built.try_lock().is_ok_and(|b| b.is_some()))
+            {
+                return Ok(Ahead::Cached);
+            }
+            cache
+                .values()
+                .filter_map(|s| Some(s.built.try_lock().ok()?.as_ref()?.bytes))
+                .collect()
+        };
+        let held: u64 = sizes.iter().sum();
+        let largest = sizes.iter().copied().max().unwrap_or(0);
+        if held.saturating_add(largest) > self.budget {
+            return Ok(Ahead::Skipped);
+        }
+        self.built(v).map(|_| Ahead::Built)
     }
 
     /// Drops least recently used variants (never `keep`) until the cache fits the budget.

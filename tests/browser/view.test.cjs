@@ -27,6 +27,11 @@ async function main() {
   const errors = [];
   page.on('pageerror', (e) => errors.push(String(e)));
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  const prepared = [];
+  page.on('request', (r) => {
+    const u = new URL(r.url());
+    if (u.pathname === '/api/prepare') prepared.push(u.searchParams.get('frame'));
+  });
   try {
     await page.goto(viewer.url);
     let shown = await h.waitFinal(page);
@@ -44,6 +49,10 @@ async function main() {
     check((await page.textContent('#frame-label')).includes('frame 2'), 'scrubbing shows frame 2');
     const scrubbed = await h.pixels(page);
     check(h.meanDiff(dragged, scrubbed) > 0, 'frame 2 is another picture');
+    // Scrubbed forward from 0 to 2 (the last of 0..3): once frame 2's final picture shows, the
+    // next frame that way (wrapping round to 0) is prepared ahead.
+    await page.waitForTimeout(300);
+    check(prepared.includes('0'), `the next frame is prepared ahead (asked: ${JSON.stringify(prepared)})`);
 
     await page.selectOption('#view', 'thickness');
     shown = await h.waitFinal(page, Number(shown.version), { view: 'thickness' });

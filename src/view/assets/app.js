@@ -184,7 +184,7 @@ async function moveLoop() {
   moveWanted = false;
   await fetchPicture('move', MOVE_SCALE, st.version);
   if (moveWanted) moveLoop();
-  else if (st.playing) nextPlayFrame();
+  else if (st.playing) { prepareAhead(); nextPlayFrame(); }
 }
 
 // Something changed that needs no motion (view, preset, exposure, size): refine at once.
@@ -202,13 +202,31 @@ async function refine() {
     if (version !== st.version) return;
     if (!(await fetchPicture(pass, scale, version))) return;
   }
+  prepareAhead();
 }
 
 // ---- frames ----
 function label() { return st.scene ? st.scene.frames[st.frame] : ''; }
 
+// The direction frames were last stepped in (0: never): the next frame that way is prepared
+// while this one is looked at, so stepping or playing on finds it built.
+let stepDir = 0;
+let aheadAsked = '';
+function prepareAhead() {
+  if (!st.scene || st.scene.frames.length < 2 || stepDir === 0) return;
+  const n = st.scene.frames.length;
+  const next = (((st.frame + stepDir) % n) + n) % n;
+  const key = new URLSearchParams({
+    token: TOKEN, frame: next, view: st.view, primitive: st.primitive, preset: st.preset,
+  }).toString();
+  if (key === aheadAsked) return;
+  aheadAsked = key;
+  fetch('/api/prepare?' + key).catch(() => {});
+}
+
 function setFrame(i, moving) {
   const n = st.scene.frames.length;
+  if (i !== st.frame) stepDir = i > st.frame ? 1 : -1;
   st.frame = ((i % n) + n) % n;
   $('frame').value = st.frame;
   $('frame-label').textContent = `frame ${label()} (${st.frame + 1}/${n})`;
