@@ -245,6 +245,8 @@ impl MlsSurface {
             r: q.h / self.params.support,
             g0: 0.0,
             g1: 0.0,
+            b: 0.0,
+            k2: 0.0,
         }
     }
 

@@ -126,6 +126,10 @@ impl MlsSurface {
         let q = &self.particles[slot as usize];
         let mut c = self.cand(slot, ta, tb);
         (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
+        // The chord as `sphere_roots` computes it: b = d·(p − o), k2 = h² − |perpendicular|².
+        let f = ray.origin - q.p;
+        c.b = -f.dot(ray.dir);
+        c.k2 = q.h * q.h - (f + c.b * ray.dir).length_squared();
         c
     }
 
@@ -190,7 +194,7 @@ impl MlsSurface {
     ) -> Option<SurfaceHit> {
         let (min_step, max_step) = (MIN_STEP * r, MAX_STEP * r);
         let min_step = min_step.max(2.0 * tol);
-        let f_at = |t: f32| field::value(cands, ray.at(t), t);
+        let f_at = |t: f32| field::value_on_ray(cands, t);
         let end: Option<Sample> = f_at(s1).map(|f| (s1, f));
         let (mut prev, mut prev2): (Option<Sample>, Option<Sample>) = (None, None);
         let mut t = s0;
@@ -274,7 +278,7 @@ impl MlsSurface {
         if !(tv > a.0 && tv < c.0) || (tv - b.0).abs() < tol {
             return None;
         }
-        let fv = field::value(cands, ray.at(tv), tv)?;
+        let fv = field::value_on_ray(cands, tv)?;
         if (fv < 0.0) == neg {
             return None;
         }
@@ -298,7 +302,7 @@ impl MlsSurface {
         hi: Sample,
         tol: f32,
     ) -> Option<SurfaceHit> {
-        let (t, t_exit) = refine(|t| field::value(cands, ray.at(t), t), lo, hi, tol)?;
+        let (t, t_exit) = refine(|t| field::value_on_ray(cands, t), lo, hi, tol)?;
         let x = ray.at(t);
         let s = field::sample(cands, x, t)?;
         if !self.is_film(&s) {
@@ -425,7 +429,7 @@ mod tests {
         let d = (8.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
         let s = MlsSurface::build(&pos, &pos, &vec![0.92 * d; n], &vec![100.0; n]).unwrap();
         // Step the ray y = ρ, z = 0.2 outwards until it dips into the surface for 0.2–1 d.
-        let f_of = |ray: &Ray, cands: &[Cand], t: f32| field::value(cands, ray.at(t), t);
+        let f_of = |_ray: &Ray, cands: &[Cand], t: f32| field::value_on_ray(cands, t);
         let mut cands = Vec::new();
         let (mut found, mut rho) = (false, 0.97f32);
         while rho < 0.99 && !found {
