@@ -34,6 +34,7 @@
 
 mod band;
 mod field;
+mod gather;
 mod gathered;
 mod sheets;
 mod trace;

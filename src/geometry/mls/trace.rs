@@ -17,14 +17,6 @@ const MAX_STEP: f32 = 1.0;
 const STEP_OF_F: f32 = 0.9;
 /// A crossing is refined until its bracket is narrower than this many particle radii.
 const TOLERANCE: f32 = 1e-3;
-/// The first gathering pass collects the support spheres entered within this many support
-/// radii of the first one: enough for a film crossed at up to ~70° from its normal.
-const WINDOW: f32 = 6.0;
-/// A sphere whose centre the ray passes at b is entered no sooner than b − h; the gathering
-/// skips it without its roots when b − this many support radii h lies past the window (a
-/// margin over 1 for the rounding of the roots, so that only spheres the roots would reject
-/// are skipped).
-const ENTRY_MARGIN: f32 = 1.001;
 /// Upper bound on march steps per interval (a guard; ordinary intervals take tens).
 const MAX_MARCH: usize = 1 << 16;
 /// Upper bound on refinement iterations (two per halving of the bracket at worst).
@@ -83,34 +75,6 @@ impl MlsSurface {
         })
     }
 
-    /// Collects into `cands` the support spheres the ray is inside somewhere in
-    /// `(from, t_max)`, entered within [`WINDOW`] support radii of the first one, and returns
-    /// that window's end. Every sphere entered before the window is visited (nodes are culled
-    /// only beyond the shrinking bound), so support intervals ending before it are complete,
-    /// and nothing covers the window's end itself once they all have ended.
-    fn gather(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) -> f32 {
-        cands.clear();
-        let mut window = t_max;
-        self.bvh.closest(ray, from, t_max, |s, bound| {
-            let q = &self.particles[s as usize];
-            // The ray enters the sphere no sooner than b − h (b: where it passes the centre),
-            // so one entered past the bound needs no root (the margin keeps this a shortcut).
-            if ray.dir.dot(q.p - ray.origin) - ENTRY_MARGIN * q.h > *bound {
-                return;
-            }
-            if let Some((ta, tb)) = clip(ray, q.p, q.h, from, t_max)
-                && ta <= *bound
-            {
-                let end = ta + WINDOW * q.h;
-                window = window.min(end);
-                *bound = bound.min(end);
-                cands.push(self.cand_on(ray, s, ta, tb));
-            }
-        });
-        cands.retain(|c| c.ta <= window);
-        window
-    }
-
     /// The candidate record of the sphere in `slot` if the ray is inside it somewhere in
     /// `(t_min, t_max)`.
     #[inline(always)]
@@ -122,7 +86,7 @@ impl MlsSurface {
 
     /// The candidate record of the sphere in `slot`, which the ray is inside for `ta..=tb`.
     #[inline(always)]
-    fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
+    pub(super) fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
         let q = &self.particles[slot as usize];
         let mut c = self.cand(slot, ta, tb);
         (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
