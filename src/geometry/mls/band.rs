@@ -89,6 +89,8 @@ mod tests {
                         r: 0.2,
                         g0: n.dot(o - p),
                         g1: n.dot(dir),
+                        b,
+                        k2: disc,
                     })
                 })
                 .collect();
@@ -133,6 +135,8 @@ mod tests {
             r: 1.0,
             g0: 0.5,
             g1: -1.0,
+            b: 0.0,
+            k2: 0.0,
         };
         let (a, b) = sign_band(&[c], 0.0, 2.0, 0.01).unwrap();
         assert!(

@@ -45,21 +45,84 @@ impl QueryKey {
     }
 }
 
-/// Sorts `cands` by entry `ta`. The near-first traversal gathers them nearly in order, and a
-/// continued query keeps them in order, so an insertion sort is cheap (O(n + inversions));
-/// long lists (a whole chord) take the general sort.
+thread_local! {
+    /// Scratch of [`sort_by_entry`]: the sort keys and the candidates in their new order.
+    static SORT_SCRATCH: RefCell<(Vec<u64>, Vec<Cand>)> = const {
+        RefCell::new((Vec::new(), Vec::new()))
+    };
+}
+
+/// Sorts `cands` by entry `ta`, stably. A continued query keeps them in order (one pass checks
+/// that); otherwise the keys (`ta`'s bits in total order above the index, 8 bytes each) are
+/// sorted and each 64-byte candidate is moved once, where sorting the records themselves moved
+/// each as often as it was out of order (the near-first traversal gathers the spheres only
+/// roughly in order: a leaf's spheres are in slot order and the boxes overlap).
 pub(super) fn sort_by_entry(cands: &mut [Cand]) {
-    if cands.len() > 64 {
-        cands.sort_unstable_by(|a, b| a.ta.total_cmp(&b.ta));
+    if cands.is_sorted_by(|a, b| a.ta.total_cmp(&b.ta).is_le()) {
         return;
     }
-    for i in 1..cands.len() {
-        let x = cands[i];
-        let mut j = i;
-        while j > 0 && cands[j - 1].ta > x.ta {
-            cands[j] = cands[j - 1];
-            j -= 1;
+    SORT_SCRATCH.with_borrow_mut(|(keys, moved)| {
+        keys.clear();
+        keys.extend(
+            cands
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (u64::from(order_bits(c.ta)) << 32) | i as u64),
+        );
+        keys.sort_unstable();
+        moved.clear();
+        moved.extend(keys.iter().map(|&k| cands[(k & 0xffff_ffff) as usize]));
+        cands.copy_from_slice(moved);
+    });
+}
+
+/// The bits of `x` as an unsigned integer in [`f32::total_cmp`]'s order.
+#[inline(always)]
+fn order_bits(x: f32) -> u32 {
+    let b = x.to_bits();
+    if b >> 31 == 1 { !b } else { b | 1 << 31 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Entries with ties, negative values and long runs come out as a stable sort by
+    /// `total_cmp` leaves them.
+    #[test]
+    fn sort_by_entry_is_a_stable_sort_by_entry() {
+        let mut s = 0x2545_f491u32;
+        for n in [0usize, 1, 2, 7, 40, 65, 300] {
+            let cands: Vec<Cand> = (0..n)
+                .map(|i| {
+                    s ^= s << 13;
+                    s ^= s >> 17;
+                    s ^= s << 5;
+                    let ta =
+                        [(s % 9) as f32 - 3.0, -0.0, 0.0, 1e-30, -1e-30][(s >> 8) as usize % 5];
+                    Cand {
+                        p: Vec3::ZERO,
+                        inv_h2: 1.0,
+                        n: Vec3::Z,
+                        thickness: 0.0,
+                        ta,
+                        tb: ta + 1.0,
+                        slot: i as u32,
+                        r: 1.0,
+                        g0: 0.0,
+                        g1: 0.0,
+                        b: 0.0,
+                        k2: 0.0,
+                    }
+                })
+                .collect();
+            let mut want = cands.clone();
+            want.sort_by(|a, b| a.ta.total_cmp(&b.ta));
+            let mut got = cands;
+            sort_by_entry(&mut got);
+            let slots = |v: &[Cand]| v.iter().map(|c| c.slot).collect::<Vec<_>>();
+            assert_eq!(slots(&got), slots(&want), "n = {n}");
         }
-        cands[j] = x;
     }
 }

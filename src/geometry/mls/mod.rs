@@ -34,6 +34,7 @@
 
 mod band;
 mod field;
+mod gather;
 mod gathered;
 mod sheets;
 mod trace;
@@ -245,6 +246,8 @@ impl MlsSurface {
             r: q.h / self.params.support,
             g0: 0.0,
             g1: 0.0,
+            b: 0.0,
+            k2: 0.0,
         }
     }
 

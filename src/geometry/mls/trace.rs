@@ -17,14 +17,6 @@ const MAX_STEP: f32 = 1.0;
 const STEP_OF_F: f32 = 0.9;
 /// A crossing is refined until its bracket is narrower than this many particle radii.
 const TOLERANCE: f32 = 1e-3;
-/// The first gathering pass collects the support spheres entered within this many support
-/// radii of the first one: enough for a film crossed at up to ~70° from its normal.
-const WINDOW: f32 = 6.0;
-/// A sphere whose centre the ray passes at b is entered no sooner than b − h; the gathering
-/// skips it without its roots when b − this many support radii h lies past the window (a
-/// margin over 1 for the rounding of the roots, so that only spheres the roots would reject
-/// are skipped).
-const ENTRY_MARGIN: f32 = 1.001;
 /// Upper bound on march steps per interval (a guard; ordinary intervals take tens).
 const MAX_MARCH: usize = 1 << 16;
 /// Upper bound on refinement iterations (two per halving of the bracket at worst).
@@ -83,34 +75,6 @@ impl MlsSurface {
         })
     }
 
-    /// Collects into `cands` the support spheres the ray is inside somewhere in
-    /// `(from, t_max)`, entered within [`WINDOW`] support radii of the first one, and returns
-    /// that window's end. Every sphere entered before the window is visited (nodes are culled
-    /// only beyond the shrinking bound), so support intervals ending before it are complete,
-    /// and nothing covers the window's end itself once they all have ended.
-    fn gather(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) -> f32 {
-        cands.clear();
-        let mut window = t_max;
-        self.bvh.closest(ray, from, t_max, |s, bound| {
-            let q = &self.particles[s as usize];
-            // The ray enters the sphere no sooner than b − h (b: where it passes the centre),
-            // so one entered past the bound needs no root (the margin keeps this a shortcut).
-            if ray.dir.dot(q.p - ray.origin) - ENTRY_MARGIN * q.h > *bound {
-                return;
-            }
-            if let Some((ta, tb)) = clip(ray, q.p, q.h, from, t_max)
-                && ta <= *bound
-            {
-                let end = ta + WINDOW * q.h;
-                window = window.min(end);
-                *bound = bound.min(end);
-                cands.push(self.cand_on(ray, s, ta, tb));
-            }
-        });
-        cands.retain(|c| c.ta <= window);
-        window
-    }
-
     /// The candidate record of the sphere in `slot` if the ray is inside it somewhere in
     /// `(t_min, t_max)`.
     #[inline(always)]
@@ -122,10 +86,14 @@ impl MlsSurface {
 
     /// The candidate record of the sphere in `slot`, which the ray is inside for `ta..=tb`.
     #[inline(always)]
-    fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
+    pub(super) fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
         let q = &self.particles[slot as usize];
         let mut c = self.cand(slot, ta, tb);
         (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
+        // The chord as `sphere_roots` computes it: b = d·(p − o), k2 = h² − |perpendicular|².
+        let f = ray.origin - q.p;
+        c.b = -f.dot(ray.dir);
+        c.k2 = q.h * q.h - (f + c.b * ray.dir).length_squared();
         c
     }
 
@@ -190,7 +158,7 @@ impl MlsSurface {
     ) -> Option<SurfaceHit> {
         let (min_step, max_step) = (MIN_STEP * r, MAX_STEP * r);
         let min_step = min_step.max(2.0 * tol);
-        let f_at = |t: f32| field::value(cands, ray.at(t), t);
+        let f_at = |t: f32| field::value_on_ray(cands, t);
         let end: Option<Sample> = f_at(s1).map(|f| (s1, f));
         let (mut prev, mut prev2): (Option<Sample>, Option<Sample>) = (None, None);
         let mut t = s0;
@@ -274,7 +242,7 @@ impl MlsSurface {
         if !(tv > a.0 && tv < c.0) || (tv - b.0).abs() < tol {
             return None;
         }
-        let fv = field::value(cands, ray.at(tv), tv)?;
+        let fv = field::value_on_ray(cands, tv)?;
         if (fv < 0.0) == neg {
             return None;
         }
@@ -298,7 +266,7 @@ impl MlsSurface {
         hi: Sample,
         tol: f32,
     ) -> Option<SurfaceHit> {
-        let (t, t_exit) = refine(|t| field::value(cands, ray.at(t), t), lo, hi, tol)?;
+        let (t, t_exit) = refine(|t| field::value_on_ray(cands, t), lo, hi, tol)?;
         let x = ray.at(t);
         let s = field::sample(cands, x, t)?;
         if !self.is_film(&s) {
@@ -425,7 +393,7 @@ mod tests {
         let d = (8.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
         let s = MlsSurface::build(&pos, &pos, &vec![0.92 * d; n], &vec![100.0; n]).unwrap();
         // Step the ray y = ρ, z = 0.2 outwards until it dips into the surface for 0.2–1 d.
-        let f_of = |ray: &Ray, cands: &[Cand], t: f32| field::value(cands, ray.at(t), t);
+        let f_of = |_ray: &Ray, cands: &[Cand], t: f32| field::value_on_ray(cands, t);
         let mut cands = Vec::new();
         let (mut found, mut rho) = (false, 0.97f32);
         while rho < 0.99 && !found {
