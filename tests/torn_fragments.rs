@@ -88,7 +88,10 @@ fn a_torn_fragments_mls_surface_covers_the_film_its_particles_hold() {
         let prepared = pipeline::prepare(&desc, Path::new(""), false).unwrap();
         let out = pipeline::render(&prepared, &prepared.shot).unwrap();
         let f = front_layer_in_data(&prepared, &out, &span);
-        eprintln!("bursting 110 mls {w}x{h}: {} of {} px", f.missing, f.interior);
+        eprintln!(
+            "bursting 110 mls {w}x{h}: {} of {} px",
+            f.missing, f.interior
+        );
         assert!(f.interior > 50, "{w}x{h}: {} px", f.interior);
         assert_eq!(f.missing, 0, "{w}x{h}: {} of {} px", f.missing, f.interior);
     }

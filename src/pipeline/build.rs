@@ -156,8 +156,11 @@ pub(super) fn film_geometry(
 /// The MLS surface's particle radii (its supports are [`crate::geometry::MlsParams::support`]
 /// times these) from the fitted `radii`, their edge cuts `clips` and the particles' own radii
 /// √(A/π) `own` (0 or missing: unknown). The surface has no cut, so an edge particle's support
-/// stays within its cut's reach past the hull ([`support_reach`]) instead of the radius that
-/// covers its cell up to the cut. A particle the fit did not cut is never smaller than its own
+/// stays within its cut's offset instead of the radius that covers its cell up to the cut;
+/// where its own area is known, within its cut's reach past the hull ([`support_reach`]), so
+/// a torn fragment's corner particles reach each other. (Without areas, on the MELP foam with
+/// its walls merged into one sheet, the larger corner supports left 2 of 81 missing pixels
+/// whose field holds a crossing the march skips: `tests/pinholes_real.rs`.) A particle the fit did not cut is never smaller than its own
 /// area: the fit trims a rolled rim's or a torn fragment's particles well below it (their
 /// neighbours' tangent planes scatter), and the supports of so sparse a sampling then weigh
 /// less than the intact film's threshold where the particles' areas hold film (single-pixel
@@ -166,9 +169,13 @@ fn mls_radii(radii: &[f32], clips: &[EdgeClip], own: &[f32]) -> Vec<f32> {
     radii
         .iter()
         .enumerate()
-        .map(|(i, &r)| match clips.get(i) {
-            Some(c) if *c != NO_CLIP => r.min(support_reach(c)),
-            _ => r.max(own.get(i).copied().unwrap_or(0.0)),
+        .map(|(i, &r)| {
+            let own = own.get(i).copied().unwrap_or(0.0);
+            match clips.get(i) {
+                Some(c) if *c != NO_CLIP && own > 0.0 => r.min(support_reach(c)),
+                Some(c) if *c != NO_CLIP => r.min(c[0].w).min(c[1].w),
+                _ => r.max(own),
+            }
         })
         .collect()
 }
