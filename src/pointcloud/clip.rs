@@ -86,6 +86,41 @@ pub fn reach_and_cut(
     }
 }
 
+/// For a particle at the origin inside the `hull` of its sheet neighbours (not on it), the cut
+/// that lets its disk grow past the reach of a plain disk, `reach` beyond the nearest hull edge,
+/// while keeping every point of it within `reach` of the hull: the lines `reach` outside the
+/// two hull edges nearest to it (their outward unit normals and offsets from the particle),
+/// and the largest radius the cut disk may have — `reach` past every other edge, and
+/// √(|v|² + reach²) for every hull vertex v (a point past the corner at v lies at least that
+/// far from the particle when it is more than `reach` from v). A particle one row in from a
+/// torn edge, trimmed to `reach` past it, may then be round on the film side and straight at
+/// the edge. `None` for a hull of fewer than three vertices or the origin on it.
+pub fn inner_cut(hull: &[Vec2], reach: f32) -> Option<([(Vec2, f32); 2], f32)> {
+    if hull.len() < 3 || hull.contains(&Vec2::ZERO) {
+        return None;
+    }
+    // Each edge's outward normal and the particle's distance to its line.
+    let mut edges: Vec<(Vec2, f32)> = (0..hull.len())
+        .filter_map(|k| {
+            let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
+            let e = b - a;
+            let m = Vec2::new(e.y, -e.x).try_normalize()?;
+            Some((m, a.dot(m).max(0.0)))
+        })
+        .collect();
+    if edges.len() < 3 {
+        return None;
+    }
+    edges.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let past_edges = edges[2..].iter().map(|e| e.1 + reach);
+    let past_corners = hull
+        .iter()
+        .map(|v| (v.length_squared() + reach * reach).sqrt());
+    let most = past_edges.chain(past_corners).fold(f32::INFINITY, f32::min);
+    let cut = [edges[0], edges[1]].map(|(m, d)| (m, d + reach));
+    Some((cut, most))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -125,5 +160,66 @@ mod tests {
             "{meet}"
         );
         assert!(!keeps(&clip, 1.01 * meet));
+    }
+
+    /// Distance from `x` to the convex polygon `hull` (counter-clockwise; 0 inside).
+    fn outside(hull: &[Vec2], x: Vec2) -> f32 {
+        let n = hull.len();
+        let inside = (0..n).all(|k| (hull[(k + 1) % n] - hull[k]).perp_dot(x - hull[k]) >= 0.0);
+        if inside {
+            return 0.0;
+        }
+        (0..n)
+            .map(|k| {
+                let (a, b) = (hull[k], hull[(k + 1) % n]);
+                let t = ((x - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                (x - a - t * (b - a)).length()
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+
+    #[test]
+    fn an_inner_cut_keeps_the_hull_and_reaches_no_further_past_it() {
+        // Brute force over random hulls around a particle inside them: every point of the cut
+        // disk lies within `reach` of the hull, and the cut keeps the whole hull.
+        let mut seed = 0x2545_f491u32;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        let mut tried = 0;
+        for _ in 0..400 {
+            let near: Vec<Vec2> = (0..3 + (rnd() * 9.0) as usize)
+                .map(|_| {
+                    let a = std::f32::consts::TAU * rnd();
+                    (0.3 + 1.5 * rnd()) * Vec2::new(a.cos(), a.sin())
+                })
+                .collect();
+            let hull = super::super::cell::hull_with_origin(&near);
+            let reach = 0.1 + 0.6 * rnd();
+            let Some((cut, most)) = inner_cut(&hull, reach) else {
+                assert!(hull.len() < 3 || hull.contains(&Vec2::ZERO));
+                continue;
+            };
+            tried += 1;
+            let kept = |x: Vec2| cut.iter().all(|(m, k)| x.dot(*m) <= *k);
+            for a in 0..90 {
+                for s in 1..=30 {
+                    let (a, s) = (a as f32 * std::f32::consts::TAU / 90.0, s as f32 / 30.0);
+                    let x = s * most * Vec2::new(a.cos(), a.sin());
+                    if kept(x) {
+                        let past = outside(&hull, x);
+                        assert!(
+                            past <= reach * 1.0001,
+                            "{past} > {reach} at {x} of {hull:?}"
+                        );
+                    }
+                }
+            }
+            assert!(hull.iter().all(|v| kept(*v)), "{cut:?} cuts {hull:?}");
+        }
+        assert!(tried > 100, "{tried}");
     }
 }

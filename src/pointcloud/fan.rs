@@ -8,7 +8,7 @@ use super::cell::{
     CellScratch, FAN_SLOPE, clip_to_hull_into, depth_in_hull, hull_with_origin_into, rim_midpoints,
     sheet_neighbours, two_shortest, voronoi_cell_into,
 };
-use super::clip::{EdgeClip, NO_CLIP, reach_and_cut, to_3d};
+use super::clip::{EdgeClip, NO_CLIP, inner_cut, reach_and_cut, to_3d};
 
 /// Half-side of the square a Voronoi cell is clipped to, as a multiple of the cloud's median
 /// distance to the [`SPACING_RANK`]-th nearest neighbour (on a hexagonal sampling of spacing d
@@ -44,6 +44,11 @@ pub enum Fit {
         clip: EdgeClip,
         /// Its neighbours lie in a line: never trimmed below its own area's radius.
         strand: bool,
+        /// How far a disk drawn with `clip` may reach: `most` for a particle on the hull (its
+        /// cut is always drawn); for one inside it, trimmed to `most`, the radius under the cut
+        /// at the two nearest hull edges ([`super::clip::inner_cut`]), drawn only where the
+        /// disk grows past `most` (to cover its cell beside a torn rim, see [`super::gaps`]).
+        cut_most: f32,
     },
     /// No sheet neighbours: the distance to the nearest particle (∞ for none).
     Isolated(f32),
@@ -58,6 +63,7 @@ impl Fit {
         bounded: false,
         clip: NO_CLIP,
         strand: false,
+        cut_most: f32::INFINITY,
     };
 
     /// A particle in a strand (its neighbours in a line): kept within `reach`, an edge.
@@ -69,6 +75,7 @@ impl Fit {
             bounded: true,
             clip: NO_CLIP,
             strand: true,
+            cut_most: reach,
         }
     }
 }
@@ -158,13 +165,22 @@ pub fn fan(
     clip_to_hull_into(hull, &mut s.cell);
     let far = farthest(&s.cell.poly);
     let rim = rim_midpoints(near, hull);
-    let (need, most, clip) = match cut {
+    let (u, v) = nrm.any_orthonormal_pair();
+    let (need, most, clip, cut_most) = match cut {
         Some((m, corner)) => {
-            let (u, v) = nrm.any_orthonormal_pair();
             let need = GAP_MARGIN * far.max(rim).max(corner);
-            (need, need, to_3d(m, reach, u, v))
+            (need, need, to_3d(m, reach, u, v), need)
         }
-        None => (GAP_MARGIN * far.max(rim), depth + reach, NO_CLIP),
+        None => {
+            let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
+            match inner_cut(hull, reach).filter(|_| most < r.max(need)) {
+                Some((c, cut_most)) if cut_most > most => {
+                    let clip = c.map(|(m, k)| (m.x * u + m.y * v).extend(k));
+                    (need, most, clip, cut_most)
+                }
+                _ => (need, most, NO_CLIP, most),
+            }
+        }
     };
     let trims = most < r.max(need);
     Fit::Sheet {
@@ -174,5 +190,6 @@ pub fn fan(
         bounded: far < 0.999 * whole || rim > far || trims,
         clip,
         strand: false,
+        cut_most,
     }
 }

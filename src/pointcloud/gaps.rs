@@ -21,7 +21,11 @@
 //!   shorter hull edge beside it outside those edges ([`super::clip`]), and grows to cover its
 //!   cell and the edge strips to its neighbours' halves out to the cut, so the edge runs
 //!   straight, without notches; a particle one row in reaches at most its depth in the hull
-//!   plus half its spacing (the mean distance to its two nearest sheet neighbours).
+//!   plus half its spacing (the mean distance to its two nearest sheet neighbours) past the
+//!   nearest hull edge: where its cell reaches further, it is cut by the lines that far outside
+//!   the two hull edges nearest to it and grows to cover its cell, as far as every point of it
+//!   stays within that reach of the hull ([`super::clip::inner_cut`]) — a plain disk trimmed
+//!   to the reach left crevices beside a torn rim.
 //! - **Isolated** particles (fewer than two sheet neighbours in reach) are drawn at their own
 //!   size: the disk of their area where the simulator stores one, else at most [`EDGE_REACH`]
 //!   × the distance to their nearest neighbour.
@@ -244,6 +248,11 @@ fn apply(
     let mut clips = vec![NO_CLIP; radii.len()];
     for (i, (r, fit)) in radii.iter_mut().zip(fits).enumerate() {
         let own = own.get(i).copied().filter(|o| *o > 0.0);
+        // Growth is capped at `growth` × the particle's own size, never below what it had.
+        let bounded = |new: f32, growth: f32| match own {
+            Some(o) => new.min(growth * o).max(r.min(new)),
+            None => new,
+        };
         let new = match fit {
             Fit::Sheet {
                 need,
@@ -251,28 +260,40 @@ fn apply(
                 edge,
                 clip,
                 strand,
+                cut_most,
                 ..
             } => {
                 report.edge += usize::from(edge);
-                clips[i] = clip;
                 let floor = if strand { own.unwrap_or(0.0) } else { 0.0 };
-                r.max(need.min(cap)).min(most).max(floor)
+                let wanted = r.max(need.min(cap));
+                // One row in from an open edge (`cut_most` > `most`): trimmed to `most` as a
+                // plain disk, it covers its cell (`need`) up to `cut_most` with its cut drawn
+                // (else crevices open beside the rim), as an edge particle does. An edge splat, cut at the edge, grows no
+                // further than a splat keeps unfitted.
+                let inner = cut_most > most;
+                let plain_growth = if clip == NO_CLIP || inner {
+                    AREA_GROWTH
+                } else {
+                    AREA_OVERLAP
+                };
+                let plain = bounded(wanted.min(most).max(floor), plain_growth);
+                let cut = bounded(need.min(cap).min(cut_most), AREA_OVERLAP);
+                if inner && cut > plain {
+                    clips[i] = clip;
+                    cut
+                } else {
+                    clips[i] = if inner { NO_CLIP } else { clip };
+                    plain
+                }
             }
-            Fit::Isolated(nearest) => match own {
-                Some(o) => o,
-                None if nearest.is_finite() => r.min(EDGE_REACH * nearest),
-                None => *r,
-            },
-        };
-        // An edge splat, cut at the edge, grows no further than a splat keeps unfitted.
-        let growth = if clips[i] == NO_CLIP {
-            AREA_GROWTH
-        } else {
-            AREA_OVERLAP
-        };
-        let new = match own {
-            Some(o) => new.min(growth * o).max(r.min(new)),
-            None => new,
+            Fit::Isolated(nearest) => bounded(
+                match own {
+                    Some(o) => o,
+                    None if nearest.is_finite() => r.min(EDGE_REACH * nearest),
+                    None => *r,
+                },
+                AREA_GROWTH,
+            ),
         };
         if new > *r {
             report.grown += 1;
