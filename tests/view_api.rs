@@ -246,6 +246,12 @@ fn an_attribute_view_is_its_own_variant_and_other_frames_are_built_on_demand() {
     assert!(r.text().contains("no attribute 'nothing'"), "{}", r.text());
 }
 
+/// The frames the server holds prepared.
+fn cached_frames(s: &Running) -> Vec<usize> {
+    let session = s.server.app().session();
+    session.cached().iter().map(|v| v.frame).collect()
+}
+
 #[test]
 fn the_least_recently_used_frames_go_when_the_budget_is_exceeded() {
     // A budget below one frame's size keeps only the newest.
@@ -253,15 +259,7 @@ fn the_least_recently_used_frames_go_when_the_budget_is_exceeded() {
     for f in [1, 2] {
         let r = get(s.addr, &format!("/api/render?{CAMERA}&w=16&h=9&frame={f}"));
         assert_eq!(r.status, 200);
-        let frames: Vec<usize> = s
-            .server
-            .app()
-            .session()
-            .cached()
-            .iter()
-            .map(|v| v.frame)
-            .collect();
-        assert_eq!(frames, vec![f]);
+        assert_eq!(cached_frames(&s), vec![f]);
     }
     // A generous budget keeps every frame: asking again builds nothing.
     let s = start_frames(frames(SCENE, 3), u64::MAX);
@@ -324,13 +322,5 @@ fn preparing_ahead_never_pushes_out_the_frame_on_screen() {
     let r = get(s.addr, "/api/prepare?frame=1");
     assert_eq!((r.status, r.text().as_str()), (200, "skipped"));
     assert_eq!(s.stats().builds.load(Relaxed), 1);
-    let cached: Vec<usize> = s
-        .server
-        .app()
-        .session()
-        .cached()
-        .iter()
-        .map(|v| v.frame)
-        .collect();
-    assert_eq!(cached, vec![0]);
+    assert_eq!(cached_frames(&s), vec![0]);
 }

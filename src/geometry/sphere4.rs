@@ -5,7 +5,7 @@
 //! multiply-add), so each lane's `t` is bit-identical to the scalar test and hit/miss decisions
 //! agree with it.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{BVec4A, Mat4, Vec3, Vec4};
 
 use super::ray4::{Ray4, lane_mask};
 
@@ -28,6 +28,27 @@ pub(super) const PAD_SPHERE: SpherePrim = SpherePrim {
 };
 
 impl Ray4 {
+    /// The two roots along the ray of each of four spheres, `c`'s rows the centres' x, y, z
+    /// and the radii (lane `i` a sphere), unordered, and the lanes where they are real (false
+    /// for NaN). The operations of [`sphere_roots`](super::primitives::sphere_roots) in its
+    /// order, so each lane is bit-identical to it; a ray tangent at its origin (q = 0) gets a
+    /// double root at 0.
+    #[inline(always)]
+    pub(crate) fn sphere_roots4(&self, c: &Mat4) -> (Vec4, Vec4, BVec4A) {
+        let (fx, fy, fz) = (self.ox - c.x_axis, self.oy - c.y_axis, self.oz - c.z_axis);
+        let b = -(fx * self.dx + fy * self.dy + fz * self.dz);
+        let (px, py, pz) = (fx + b * self.dx, fy + b * self.dy, fz + b * self.dz);
+        let r2 = c.w_axis * c.w_axis;
+        let disc = r2 - (px * px + py * py + pz * pz);
+        let real = disc.cmpge(Vec4::ZERO); // false for NaN
+        let cc = (fx * fx + fy * fy + fz * fz) - r2;
+        let q = b + disc.sqrt().copysign(b);
+        let zero = q.cmpeq(Vec4::ZERO);
+        let ta = Vec4::select(zero, Vec4::ZERO, cc / q);
+        let tb = Vec4::select(zero, Vec4::ZERO, q);
+        (ta, tb, real)
+    }
+
     /// The first crossing with `t_min < t < t_max` of each of the spheres `spheres[0..4]` (the
     /// entry point, or the exit point for a ray starting inside), and a bit mask (bit `i` for
     /// lane `i`) of the lanes that have one; lanes at or beyond `lanes` are masked off.
@@ -47,19 +68,7 @@ impl Ray4 {
             cr(&spheres[3]),
         )
         .transpose();
-        // Same expression order as `sphere_roots`.
-        let (fx, fy, fz) = (self.ox - c.x_axis, self.oy - c.y_axis, self.oz - c.z_axis);
-        let b = -(fx * self.dx + fy * self.dy + fz * self.dz);
-        let (px, py, pz) = (fx + b * self.dx, fy + b * self.dy, fz + b * self.dz);
-        let r2 = c.w_axis * c.w_axis;
-        let disc = r2 - (px * px + py * py + pz * pz);
-        let real = disc.cmpge(Vec4::ZERO); // false for NaN
-        let cc = (fx * fx + fy * fy + fz * fz) - r2;
-        let q = b + disc.sqrt().copysign(b);
-        // q == 0: origin on the sphere, ray tangent: a double root at 0.
-        let zero = q.cmpeq(Vec4::ZERO);
-        let ta = Vec4::select(zero, Vec4::ZERO, cc / q);
-        let tb = Vec4::select(zero, Vec4::ZERO, q);
+        let (ta, tb, real) = self.sphere_roots4(&c);
         let (t0, t1) = (ta.min(tb), ta.max(tb));
         let (lo, hi) = (Vec4::splat(t_min), Vec4::splat(t_max));
         let in0 = t0.cmpgt(lo) & t0.cmplt(hi);

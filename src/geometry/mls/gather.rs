@@ -58,17 +58,7 @@ impl MlsSurface {
         };
         let c = Mat4::from_cols(q(0), q(1), q(2), q(3)).transpose();
         // The operations of `sphere_roots`, in its order.
-        let (fx, fy, fz) = (r.ox - c.x_axis, r.oy - c.y_axis, r.oz - c.z_axis);
-        let b = -(fx * r.dx + fy * r.dy + fz * r.dz);
-        let (px, py, pz) = (fx + b * r.dx, fy + b * r.dy, fz + b * r.dz);
-        let r2 = c.w_axis * c.w_axis;
-        let disc = r2 - (px * px + py * py + pz * pz);
-        let real = disc.cmpge(Vec4::ZERO); // false for NaN
-        let cc = (fx * fx + fy * fy + fz * fz) - r2;
-        let q = b + disc.sqrt().copysign(b);
-        let zero = q.cmpeq(Vec4::ZERO);
-        let t0 = Vec4::select(zero, Vec4::ZERO, cc / q);
-        let t1 = Vec4::select(zero, Vec4::ZERO, q);
+        let (t0, t1, real) = r.sphere_roots4(&c);
         let lower = t0.cmple(t1);
         let (lo, hi) = (Vec4::select(lower, t0, t1), Vec4::select(lower, t1, t0));
         // `clip`: (max(t0, t_min), min(t1, t_max)) if not empty.
