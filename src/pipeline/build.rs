@@ -8,7 +8,8 @@ use crate::geometry::{
     Aabb, DiskGeometry, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry,
 };
 use crate::pointcloud::PointCloud;
-use crate::pointcloud::clip::EdgeClip;
+use crate::pointcloud::area::own_radii;
+use crate::pointcloud::clip::{EdgeClip, NO_CLIP, is_inner_cut};
 use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
 use crate::pointcloud::knn::KnnTable;
 use crate::render::{AttributeValues, Environment, LatLongMap, Studio};
@@ -136,17 +137,11 @@ pub(super) fn film_geometry(
         }
         Primitive::Sphere => Ok(SphereGeometry::build(positions, n, radii, thickness)?.into()),
         Primitive::Mls => {
-            // The surface has no cut: an edge particle's support stays within its cut's offset
-            // (half a spacing) instead of the radius that covers its cell up to the cut.
             let cut: Vec<f32>;
             let radii = if clips.is_empty() {
                 radii
             } else {
-                cut = radii
-                    .iter()
-                    .zip(clips)
-                    .map(|(r, c)| r.min(c[0].w).min(c[1].w))
-                    .collect();
+                cut = mls_radii(radii, clips, &own_radii(cloud));
                 &cut
             };
             let mut surface = MlsSurface::build(positions, n, radii, thickness)?;
@@ -156,6 +151,54 @@ pub(super) fn film_geometry(
             Ok(surface.into())
         }
     }
+}
+
+/// The MLS surface's particle radii (its supports are [`crate::geometry::MlsParams::support`]
+/// times these) from the fitted `radii`, their cuts `clips` and the particles' own radii √(A/π)
+/// `own` (0 or missing: unknown). The surface has no cut, so:
+///
+/// - an edge particle (an edge cut, on its neighbours' hull) stays within its cut's offset,
+///   half a spacing past the hull, instead of the radius that covers its cell up to the cut;
+///   where its own area is known, within the cut's reach without the corner's shortening
+///   ([`support_reach`]), so a torn fragment's corner particles still reach each other
+///   (without areas, on the MELP foam with its walls merged into one sheet, the larger corner
+///   supports left pixels whose field holds a crossing the march skips: `tests/pinholes_real.rs`);
+/// - a particle one row in (an inner cut, [`is_inner_cut`]) keeps the plain disk's radius, its
+///   cut's nearer offset, as a particle the fit did not cut keeps its radius;
+/// - neither is ever smaller than its own area: the fit trims a rolled rim's or a torn
+///   fragment's particles well below it, and the supports of so sparse a sampling then weigh
+///   less than the intact film's threshold where the particles' areas hold film
+///   (single-pixel pinholes at fragments' edges, bursting frames 83–113).
+fn mls_radii(radii: &[f32], clips: &[EdgeClip], own: &[f32]) -> Vec<f32> {
+    radii
+        .iter()
+        .enumerate()
+        .map(|(i, &r)| {
+            let own = own.get(i).copied().unwrap_or(0.0);
+            match clips.get(i) {
+                Some(c) if is_inner_cut(c) => r.min(c[0].w).min(c[1].w).max(own),
+                Some(c) if *c != NO_CLIP && own > 0.0 => r.min(support_reach(c)),
+                Some(c) if *c != NO_CLIP => r.min(c[0].w).min(c[1].w),
+                _ => r.max(own),
+            }
+        })
+        .collect()
+}
+
+/// How far an edge particle's MLS support may reach past the film's hull, from its disk's cut
+/// `clip`: the cut's offset w without its corner factor cos(φ/2) (φ the angle between the two
+/// hull edges' normals; `pointcloud::clip::edge_cut`). That factor keeps the point where a
+/// disk's two cut lines meet within half a spacing of the hull; a round support reaches no
+/// farther past the hull than its radius, and must reach the particle's neighbours along both
+/// edges (at a torn fragment's sharp corners w fell to a quarter of the edge's length, and the
+/// supports of its corner particles no longer met).
+fn support_reach(clip: &EdgeClip) -> f32 {
+    let [a, b] = clip;
+    let corner = (0.5 * (1.0 + a.truncate().dot(b.truncate())))
+        .max(0.0)
+        .sqrt();
+    let w = a.w.min(b.w);
+    if corner > 0.0 { (w / corner).max(w) } else { w }
 }
 
 /// First-order splats: normals tilt with the curvature, thickness follows its gradient (limited
