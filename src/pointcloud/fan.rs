@@ -173,7 +173,13 @@ pub fn fan(
         }
         None => {
             let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
-            match inner_cut(hull, reach).filter(|_| most < r.max(need)) {
+            // Only a particle the plain disk would trim looks for the cut (most never do).
+            let inner = if most < r.max(need) {
+                inner_cut(hull, reach)
+            } else {
+                None
+            };
+            match inner {
                 Some((c, cut_most)) if cut_most > most => {
                     let clip = c.map(|(m, k)| (m.x * u + m.y * v).extend(k));
                     (need, most, clip, cut_most)
