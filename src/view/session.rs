@@ -26,6 +26,14 @@ struct Slot {
     used: AtomicU64,
 }
 
+impl Slot {
+    /// The estimated memory of the prepared variant; `None` while it is being built or if it
+    /// is not (yet) prepared.
+    fn prepared_bytes(&self) -> Option<u64> {
+        Some(self.built.try_lock().ok()?.as_ref()?.bytes)
+    }
+}
+
 /// What a session has done so far (for tests, benches and the status line).
 #[derive(Debug, Default)]
 pub struct Stats {
@@ -43,9 +51,9 @@ pub struct Stats {
 /// What [`Session::prepare_ahead`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ahead {
-    /// Prepared now.
+    /// Prepared now (or by another request that was building it, which this one waited for).
     Built,
-    /// Already prepared (or being prepared by another request, which this one waited for).
+    /// Already prepared.
     Cached,
     /// Not prepared: keeping it would exceed the memory budget.
     Skipped,
@@ -159,16 +167,10 @@ impl Session {
     pub fn prepare_ahead(&self, v: &Variant) -> Result<Ahead, Refusal> {
         let sizes: Vec<u64> = {
             let cache = lock(&self.cache);
-            if cache
-                .get(v)
-                .is_some_and(|s| s.built.try_lock().is_ok_and(|b| b.is_some()))
-            {
+            if cache.get(v).is_some_and(|s| s.prepared_bytes().is_some()) {
                 return Ok(Ahead::Cached);
             }
-            cache
-                .values()
-                .filter_map(|s| Some(s.built.try_lock().ok()?.as_ref()?.bytes))
-                .collect()
+            cache.values().filter_map(|s| s.prepared_bytes()).collect()
         };
         let held: u64 = sizes.iter().sum();
         let largest = sizes.iter().copied().max().unwrap_or(0);
@@ -185,7 +187,7 @@ impl Session {
             let sizes: Vec<(Variant, u64, u64)> = cache
                 .iter()
                 .filter_map(|(k, s)| {
-                    let b = s.built.try_lock().ok()?.as_ref()?.bytes;
+                    let b = s.prepared_bytes()?;
                     Some((k.clone(), b, s.used.load(Ordering::Relaxed)))
                 })
                 .collect();
@@ -208,7 +210,7 @@ impl Session {
     pub fn cached(&self) -> Vec<Variant> {
         lock(&self.cache)
             .iter()
-            .filter(|(_, s)| s.built.try_lock().is_ok_and(|b| b.is_some()))
+            .filter(|(_, s)| s.prepared_bytes().is_some())
             .map(|(k, _)| k.clone())
             .collect()
     }
