@@ -165,9 +165,9 @@ pub fn fan(
     clip_to_hull_into(hull, &mut s.cell);
     let far = farthest(&s.cell.poly);
     let rim = rim_midpoints(near, hull);
-    let (u, v) = nrm.any_orthonormal_pair();
     let (need, most, clip, cut_most) = match cut {
         Some((m, corner)) => {
+            let (u, v) = nrm.any_orthonormal_pair();
             let need = GAP_MARGIN * far.max(rim).max(corner);
             (need, need, to_3d(m, reach, u, v), need)
         }
@@ -181,6 +181,7 @@ pub fn fan(
             };
             match inner {
                 Some((c, cut_most)) if cut_most > most => {
+                    let (u, v) = nrm.any_orthonormal_pair();
                     let clip = c.map(|(m, k)| (m.x * u + m.y * v).extend(k));
                     (need, most, clip, cut_most)
                 }

@@ -268,8 +268,8 @@ fn apply(
                 let wanted = r.max(need.min(cap));
                 // One row in from an open edge (`cut_most` > `most`): trimmed to `most` as a
                 // plain disk, it covers its cell (`need`) up to `cut_most` with its cut drawn
-                // (else crevices open beside the rim), as an edge particle does. An edge splat, cut at the edge, grows no
-                // further than a splat keeps unfitted.
+                // (else crevices open beside the rim), as an edge particle does. A cut splat
+                // grows no further than a splat keeps unfitted.
                 let inner = cut_most > most;
                 let plain_growth = if clip == NO_CLIP || inner {
                     AREA_GROWTH

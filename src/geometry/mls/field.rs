@@ -208,13 +208,7 @@ mod tests {
     /// 3D points, wherever both are defined, and undefined where the 3D form is.
     #[test]
     fn value_on_the_ray_is_the_value_at_the_point() {
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut rnd = crate::geometry::ray4::test_rng(0x9e37_79b9);
         let mut compared = 0;
         for _ in 0..100 {
             let o = Vec3::new(3.0 * rnd(), 3.0 * rnd(), 4.0);

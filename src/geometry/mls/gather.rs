@@ -79,13 +79,7 @@ mod tests {
     /// them: rays from outside and inside the spheres, near misses, short ranges, partial packets.
     #[test]
     fn lanes_match_the_scalar_roots() {
-        let mut s = 0x2545_f491u32;
-        let mut rnd = move || {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s as f32 / u32::MAX as f32 * 2.0 - 1.0
-        };
+        let mut rnd = crate::geometry::ray4::test_rng(0x2545_f491);
         let p: Vec<Vec3> = (0..9).map(|_| Vec3::new(rnd(), rnd(), rnd())).collect();
         let n = vec![Vec3::Z; p.len()];
         let radii: Vec<f32> = (0..p.len()).map(|_| 0.1 + 0.3 * rnd().abs()).collect();
