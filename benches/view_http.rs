@@ -81,31 +81,61 @@ fn camera(deg: f64) -> String {
     format!("pos={x:.5},0.75,{z:.5}&look=0,-0.15,0&up=0,1,0&fov=40")
 }
 
-fn bench(particles: usize) {
+/// `samples/bubble.toml`'s scene at `particles` particles, `n` frames (frame i at sample time
+/// i/4 when there are several).
+fn bubble_frames(particles: usize, n: usize) -> Frames {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/bubble.toml"))
         .unwrap()
         .replace("particles = 200000", &format!("particles = {particles}"));
-    let frames = Frames {
-        labels: vec!["0".into()],
-        scene: Box::new(move |_| {
-            let d = SceneDesc::from_toml(&text, "bubble.toml")?;
+    Frames {
+        labels: (0..n).map(|i| i.to_string()).collect(),
+        scene: Box::new(move |i| {
+            let mut d = SceneDesc::from_toml(&text, "bubble.toml")?;
+            if n > 1 {
+                d.input.time = Some(i as f32 * 0.25);
+            }
             Ok((
                 d,
                 PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/samples")),
             ))
         }),
         title: "bubble.toml".into(),
-    };
+    }
+}
+
+/// A server for `App` on its own thread and one kept-alive connection to it.
+struct Served {
+    stop: Arc<AtomicBool>,
+    thread: std::thread::JoinHandle<()>,
+    conn: TcpStream,
+}
+
+impl Served {
+    fn start(app: App) -> Served {
+        let stop = Arc::new(AtomicBool::new(false));
+        let server =
+            Arc::new(Server::bind("127.0.0.1:0".parse().unwrap(), app, stop.clone()).unwrap());
+        let addr: SocketAddr = server.local_addr();
+        let thread = std::thread::spawn(move || server.run());
+        let conn = TcpStream::connect(addr).unwrap();
+        conn.set_nodelay(true).unwrap();
+        Served { stop, thread, conn }
+    }
+
+    /// Stops the server, closes the connection and waits for the server's thread.
+    fn stop(self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        drop(self.conn);
+        self.thread.join().unwrap();
+    }
+}
+
+fn bench(particles: usize) {
     let t = Instant::now();
-    let app = App::new(frames, Token::fixed(TOKEN), u64::MAX).unwrap();
+    let app = App::new(bubble_frames(particles, 1), Token::fixed(TOKEN), u64::MAX).unwrap();
     let prepared = t.elapsed().as_secs_f64();
-    let stop = Arc::new(AtomicBool::new(false));
-    let server = Arc::new(Server::bind("127.0.0.1:0".parse().unwrap(), app, stop.clone()).unwrap());
-    let addr: SocketAddr = server.local_addr();
-    let s = server.clone();
-    let thread = std::thread::spawn(move || s.run());
-    let mut c = TcpStream::connect(addr).unwrap();
-    c.set_nodelay(true).unwrap();
+    let mut served = Served::start(app);
+    let c = &mut served.conn;
     println!(
         "{particles} particles as disks: prepared in {prepared:.1} s (load {})",
         load()
@@ -113,7 +143,7 @@ fn bench(particles: usize) {
     // Warm up: one picture of each pass.
     for pass in ["move", "draft"] {
         get(
-            &mut c,
+            c,
             &format!(
                 "/api/render?{}&w=240&h=135&pass={pass}&client=b",
                 camera(0.0)
@@ -124,7 +154,7 @@ fn bench(particles: usize) {
     let mut bytes = 0;
     for k in 0..ORBIT_FRAMES {
         let (status, n) = get(
-            &mut c,
+            c,
             &format!(
                 "/api/render?{}&w=240&h=135&pass=move&client=b",
                 camera(k as f64 * 1.5)
@@ -146,13 +176,13 @@ fn bench(particles: usize) {
     let cam = camera(ORBIT_FRAMES as f64 * 1.5);
     let t = Instant::now();
     let (status, _) = get(
-        &mut c,
+        c,
         &format!("/api/render?{cam}&w=480&h=270&pass=draft&client=b"),
     );
     assert_eq!(status, 200);
     let draft = t.elapsed().as_secs_f64();
     let (status, _) = get(
-        &mut c,
+        c,
         &format!("/api/render?{cam}&w=960&h=540&pass=final&client=b"),
     );
     assert_eq!(status, 200);
@@ -161,9 +191,7 @@ fn bench(particles: usize) {
         "  let go: first refined picture (480x270, 1 spp) after {draft:.2} s, final 960x540 at 4 spp after {fin:.2} s (load {})",
         load()
     );
-    stop.store(true, std::sync::atomic::Ordering::Relaxed);
-    drop(c);
-    thread.join().unwrap();
+    served.stop();
 }
 
 /// A sequence of the bubble (frames at sample times 0, ¼, ½): how long the first picture of a
@@ -171,32 +199,13 @@ fn bench(particles: usize) {
 /// page asks `/api/prepare` for the next frame once the current one's final picture shows),
 /// against one final picture of a prepared frame (960x540 at the scene's 4 spp).
 fn next_frame(particles: usize) {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/bubble.toml"))
-        .unwrap()
-        .replace("particles = 200000", &format!("particles = {particles}"));
-    let frames = Frames {
-        labels: (0..3).map(|i| i.to_string()).collect(),
-        scene: Box::new(move |i| {
-            let mut d = SceneDesc::from_toml(&text, "bubble.toml")?;
-            d.input.time = Some(i as f32 * 0.25);
-            Ok((
-                d,
-                PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/samples")),
-            ))
-        }),
-        title: "bubble.toml".into(),
-    };
-    let app = App::new(frames, Token::fixed(TOKEN), u64::MAX).unwrap();
-    let stop = Arc::new(AtomicBool::new(false));
-    let server = Arc::new(Server::bind("127.0.0.1:0".parse().unwrap(), app, stop.clone()).unwrap());
-    let s = server.clone();
-    let thread = std::thread::spawn(move || s.run());
-    let mut c = TcpStream::connect(server.local_addr()).unwrap();
-    c.set_nodelay(true).unwrap();
+    let app = App::new(bubble_frames(particles, 3), Token::fixed(TOKEN), u64::MAX).unwrap();
+    let mut served = Served::start(app);
+    let c = &mut served.conn;
     let cam = camera(0.0);
     let mut timed = |target: String| {
         let t = Instant::now();
-        assert_eq!(get(&mut c, &target).0, 200, "{target}");
+        assert_eq!(get(c, &target).0, 200, "{target}");
         t.elapsed().as_secs_f64()
     };
     let single = timed(format!(
@@ -216,9 +225,7 @@ fn next_frame(particles: usize) {
         warm / single,
         load()
     );
-    stop.store(true, std::sync::atomic::Ordering::Relaxed);
-    drop(c);
-    thread.join().unwrap();
+    served.stop();
 }
 
 fn main() {
