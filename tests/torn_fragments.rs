@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use filmsplat::image::pinholes::FrontLayer;
 use filmsplat::pipeline;
 use filmsplat::pipeline::pinholes::{edge_on, film_particles, front_layer_in_data};
 use filmsplat::pointcloud::gaps::{FAN_NEIGHBOURS, fit_radii_clipped};
@@ -29,6 +30,21 @@ fn fitted(positions: &[Vec3], normals: &[Vec3], own: &[f32]) -> Vec<f32> {
     radii
 }
 
+/// The real frame at `rel` (in tests/data) rendered with `--preset preview`.
+fn preview(rel: &str) -> SceneDesc {
+    let mut desc = SceneDesc::default();
+    desc.input.cloud = Some(data(rel));
+    desc.render.preset = Some("preview".into());
+    desc
+}
+
+/// The pinholes of `desc`'s render where the particles, spanning `span`, hold film.
+fn in_data(desc: &SceneDesc, span: &FilmSpan) -> FrontLayer {
+    let prepared = pipeline::prepare(desc, Path::new(""), false).unwrap();
+    let out = pipeline::render(&prepared, &prepared.shot).unwrap();
+    front_layer_in_data(&prepared, &out, span)
+}
+
 #[test]
 fn a_strand_is_never_trimmed_below_its_own_area() {
     // Five particles in a line, 1 apart, own radius 0.6: a strand (no hull to cover), once
@@ -47,16 +63,12 @@ fn a_rolled_rims_strands_leave_no_pinholes_where_their_areas_cover_the_plane() {
     // particle's own radius of any particle counted as film — the gaps beside the strands
     // of the rolled rim, 1.1–1.5 × the nearest particle's own radius from it, where the
     // particles' areas cover a fraction of the plane.
-    let mut desc = SceneDesc::default();
-    desc.input.cloud = Some(data("thin-film-sph/bursting_bubble/80"));
-    desc.render.preset = Some("preview".into());
+    let mut desc = preview("thin-film-sph/bursting_bubble/80");
     let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
     let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
     for from in [None, Some(edge_on(&positions))] {
         desc.camera.from = from;
-        let prepared = pipeline::prepare(&desc, Path::new(""), false).unwrap();
-        let out = pipeline::render(&prepared, &prepared.shot).unwrap();
-        let f = front_layer_in_data(&prepared, &out, &span);
+        let f = in_data(&desc, &span);
         eprintln!(
             "bursting 80 {from:?}: {:.4} % of {} px",
             f.percent(),
@@ -78,14 +90,10 @@ fn no_crevices_open_beside_a_torn_rim() {
     // disk trimmed to half a spacing past the nearest hull edge — crevices beside the rim, 1.0–
     // 1.5 × the particles' own radius from them. Cut at the two nearest hull edges instead and
     // grown to cover its cell (`pointcloud::clip::inner_cut`): 6 pixels (0.014 %).
-    let mut desc = SceneDesc::default();
-    desc.input.cloud = Some(data("thin-film-sph/bursting_bubble/73"));
-    desc.render.preset = Some("preview".into());
+    let desc = preview("thin-film-sph/bursting_bubble/73");
     let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
     let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
-    let prepared = pipeline::prepare(&desc, Path::new(""), false).unwrap();
-    let out = pipeline::render(&prepared, &prepared.shot).unwrap();
-    let f = front_layer_in_data(&prepared, &out, &span);
+    let f = in_data(&desc, &span);
     eprintln!(
         "bursting 73: {} of {} px, {:.4} %",
         f.missing,
@@ -103,18 +111,14 @@ fn a_torn_fragments_mls_surface_covers_the_film_its_particles_hold() {
     // (1.04 %, 0.39 %) where the particles' areas hold film and the surface had none, between
     // the corner particles of a three-particle fragment, whose supports (cut to a quarter of
     // the edge at its sharp corners) no longer met. Now none (`pipeline::build::mls_radii`).
-    let mut desc = SceneDesc::default();
-    desc.input.cloud = Some(data("thin-film-sph/bursting_bubble/110"));
-    desc.render.preset = Some("preview".into());
+    let mut desc = preview("thin-film-sph/bursting_bubble/110");
     desc.film.primitive = Some("mls".into());
     let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
     assert_eq!(positions.len(), 10);
     let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
     for (w, h) in [(320, 180), (480, 270)] {
         (desc.render.width, desc.render.height) = (Some(w), Some(h));
-        let prepared = pipeline::prepare(&desc, Path::new(""), false).unwrap();
-        let out = pipeline::render(&prepared, &prepared.shot).unwrap();
-        let f = front_layer_in_data(&prepared, &out, &span);
+        let f = in_data(&desc, &span);
         eprintln!(
             "bursting 110 mls {w}x{h}: {} of {} px",
             f.missing, f.interior
