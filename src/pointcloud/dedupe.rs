@@ -12,26 +12,28 @@ use super::validate::keep_particles;
 /// keeping the first in file order with its attributes. Returns how many were removed.
 /// Non-finite positions are left alone (validation reports them).
 ///
-/// Cost: one O(n log n) sort of the indices; the arrays are compacted only if something is
+/// Cost: one O(n log n) sort of a 128-bit number a particle (its position's bits and its
+/// index, so a comparison reads no position); the arrays are compacted only if something is
 /// removed.
 pub fn drop_coincident(cloud: &mut PointCloud) -> usize {
-    let key = |p: Vec3| {
-        [
-            (p.x + 0.0).to_bits(),
-            (p.y + 0.0).to_bits(),
-            (p.z + 0.0).to_bits(),
-        ]
+    // The position's three coordinates (-0 as +0) above the index: equal positions sort
+    // together, the first in file order first.
+    let key = |p: Vec3, i: u32| {
+        let bits = |v: f32| u128::from((v + 0.0).to_bits());
+        bits(p.x) << 96 | bits(p.y) << 64 | bits(p.z) << 32 | u128::from(i)
     };
     let pos = &cloud.positions;
-    let mut order: Vec<u32> = (0..pos.len() as u32)
+    let mut order: Vec<u128> = (0..pos.len() as u32)
+        .into_par_iter()
         .filter(|&i| pos[i as usize].is_finite())
+        .map(|i| key(pos[i as usize], i))
         .collect();
-    order.par_sort_unstable_by_key(|&i| (key(pos[i as usize]), i));
+    order.par_sort_unstable();
     let mut keep = vec![true; pos.len()];
     let mut removed = 0;
     for w in order.windows(2) {
-        if key(pos[w[0] as usize]) == key(pos[w[1] as usize]) {
-            keep[w[1] as usize] = false;
+        if w[0] >> 32 == w[1] >> 32 {
+            keep[(w[1] as u32) as usize] = false;
             removed += 1;
         }
     }
