@@ -648,3 +648,54 @@ fn frame_folders_of_the_thin_film_code_render_as_a_sequence() {
         );
     }
 }
+
+/// `info` and the render's notes say whether the radius fit runs: a clean sample bubble keeps
+/// its radii (the fit run on every particle changes none), a half bubble's open rim is
+/// fitted; `--fit-radii always` fits the bubble anyway, `--raw-radii` never fits.
+#[test]
+fn info_and_render_say_whether_the_radii_are_fitted() {
+    let mut files = Vec::new();
+    for name in ["bubble", "half-bubble"] {
+        let ply = tmp(&format!("fit-screen-{name}.ply"));
+        let p = ply.to_str().unwrap().to_string();
+        let (code, _, err) = filmsplat(&["sample", name, "-o", &p, "--particles", "3000"]);
+        assert_eq!(code, 0, "{err}");
+        files.push(p);
+    }
+    let (_, out, _) = filmsplat(&["info", &files[0]]);
+    assert!(out.contains("radii kept as read"), "{out}");
+    let (_, out, _) = filmsplat(&["info", &files[1]]);
+    assert!(
+        out.contains("radii fitted: the radius fit would change"),
+        "{out}"
+    );
+    let png = tmp("fit-screen.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", &files[0], "-o", png.to_str().unwrap()];
+        args.extend(["--size", "32x24", "--spp", "1"]);
+        args.extend(extra);
+        let (code, _, err) = filmsplat(&args);
+        assert_eq!(code, 0, "{err}");
+        err
+    };
+    let fitted = "splat radii fitted to the sampling";
+    let err = render(&[]);
+    assert!(
+        err.contains("radii kept as read") && !err.contains(fitted),
+        "{err}"
+    );
+    let err = render(&["--fit-radii", "always"]);
+    assert!(
+        !err.contains("radii kept as read") && err.contains(fitted),
+        "{err}"
+    );
+    for never in [&["--raw-radii"][..], &["--fit-radii", "never"]] {
+        let err = render(never);
+        assert!(
+            !err.contains("radii kept") && !err.contains(fitted),
+            "{err}"
+        );
+    }
+    let (code, _, err) = filmsplat(&["render", &files[0], "--fit-radii", "sometimes"]);
+    assert_eq!(code, 2, "{err}");
+}

@@ -6,6 +6,9 @@ use crate::pipeline::memory::{MemoryEstimate, human_bytes};
 use crate::pipeline::read_input_parts;
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::estimate::estimate_radii;
+use crate::pointcloud::gaps::{bound_by_area, own_radii};
+use crate::pointcloud::knn::PointIndex;
+use crate::pointcloud::screen::screen_fit;
 use crate::pointcloud::{EstimateOptions, compute_stats};
 use crate::render::{DEFAULT_HEIGHT, DEFAULT_WIDTH};
 use clap::Args;
@@ -103,11 +106,7 @@ fn describe(out: &mut dyn Write, part: &CloudPart) -> std::io::Result<()> {
             "  estimate splat radii from spacing: median {median:.6} (scene units)"
         )?;
     }
-    writeln!(
-        out,
-        "  fit disk radii to the sampling (grown where disks would leave pinholes, trimmed at \
-         open edges; --raw-radii keeps them)"
-    )?;
+    writeln!(out, "  {}", fit_choice(cloud))?;
     match cloud.thickness_nm.as_deref() {
         None => writeln!(
             out,
@@ -124,6 +123,27 @@ fn describe(out: &mut dyn Write, part: &CloudPart) -> std::io::Result<()> {
         writeln!(out, "  use the file's normals, radii and thickness")?;
     }
     Ok(())
+}
+
+/// What the radius fit would do: with normals and radii in the file, the screen's choice
+/// (`pointcloud::screen`, as `render` runs it with `--fit-radii auto`, before duplicates are
+/// dropped); else the fit, on radii or normals yet to be estimated.
+fn fit_choice(cloud: &PointCloud) -> String {
+    let what = "fit disk radii to the sampling (grown where disks would leave pinholes, \
+                trimmed at open edges; --raw-radii keeps them)";
+    let (Some(normals), Some(radii)) = (&cloud.normals, &cloud.radius) else {
+        return what.to_string();
+    };
+    let own = own_radii(cloud);
+    let mut radii = radii.clone();
+    bound_by_area(&mut radii, &own);
+    let index = PointIndex::build(&cloud.positions);
+    let screen = screen_fit(&index, &cloud.positions, normals, &radii, &own);
+    if screen.keeps_radii() {
+        screen.to_string()
+    } else {
+        format!("{what}: {screen}")
+    }
 }
 
 /// The file's attributes as stored: name, type, components, what filmsplat reads each as, and

@@ -101,9 +101,14 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) no_blend: bool,
     /// Use the splat radii as read or estimated: do not grow them to close pinholes between
-    /// particles, nor trim them at open edges (film.fit_radii = false).
-    #[arg(long)]
+    /// particles, nor trim them at open edges (film.fit_radii = false; --fit-radii never).
+    #[arg(long, conflicts_with = "fit_radii")]
     pub(super) raw_radii: bool,
+    /// When splat radii are fitted to the sampling: auto (the default: where the fit run on a
+    /// sample of the particles changes something), always (every cloud), never (as
+    /// --raw-radii) (film.fit_radii).
+    #[arg(long, value_parser = super::parse::named::<crate::pipeline::FitRadii>)]
+    pub(super) fit_radii: Option<String>,
     /// Flat disks: skip the curvature estimate that tilts each disk's normal with the film's
     /// curvature (faster set-up; curved films then show faceted reflections).
     #[arg(long)]

@@ -2,7 +2,7 @@
 //! files) with the flags on top.
 
 use super::render_args::RenderArgs;
-use crate::scene::SceneDesc;
+use crate::scene::{FitRadiiKey, SceneDesc};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -73,7 +73,11 @@ fn film_flags(d: &mut SceneDesc, a: &RenderArgs) {
     let off = |flag: bool| flag.then_some(false);
     over(&mut i.repair, &a.repair.then_some(true));
     over(&mut i.liquid, &a.liquid);
-    over(&mut f.fit_radii, &off(a.raw_radii));
+    let fit = a.fit_radii.clone().map(FitRadiiKey::Name);
+    over(
+        &mut f.fit_radii,
+        &off(a.raw_radii).map(FitRadiiKey::Flag).or(fit),
+    );
     over(&mut f.curvature, &off(a.flat_splats));
     over(&mut f.blend, &off(a.no_blend));
 }

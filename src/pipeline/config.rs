@@ -21,6 +21,7 @@ use crate::scene::{CameraDesc, OutputDesc, SceneDesc};
 use crate::spectrum::WavelengthStrategy;
 
 use super::environment_config::{environment, vec3};
+use super::fit_mode::{FitRadii, fit_mode};
 use super::input_config::InputConfig;
 use super::lights_props::{LightConfig, PropConfig};
 use crate::{Error, Result};
@@ -84,8 +85,8 @@ pub struct FilmConfig {
     pub radius_scale: f32,
     /// Disks tilt with the film's curvature and follow its thickness gradient.
     pub first_order_detail: bool,
-    /// Radii fitted to the sampling (disks and MLS).
-    pub fit_radii: bool,
+    /// When radii are fitted to the sampling (disks and MLS; never for spheres).
+    pub fit_radii: FitRadii,
     /// Overlapping disks of one layer blend into one crossing.
     pub blend: bool,
 }
@@ -252,7 +253,10 @@ fn film(d: &SceneDesc, ior: f32, primitive: Primitive, preset: Preset) -> Result
         // First-order detail on disks unless the scene or the preset turns it off.
         first_order_detail: primitive.takes_first_order_detail()
             && f.curvature.unwrap_or(preset.first_order_detail()),
-        fit_radii: primitive.fits_radii() && f.fit_radii != Some(false),
+        fit_radii: match fit_mode(f.fit_radii.as_ref())? {
+            _ if !primitive.fits_radii() => FitRadii::Never,
+            mode => mode,
+        },
         blend: f.blend != Some(false),
     })
 }

@@ -4,6 +4,7 @@
 
 use super::config::FilmConfig;
 use super::droplets::read_input_parts;
+use super::fit_mode::FitRadii;
 use super::input_config::{read_options, sample_kind, sample_params};
 use super::one_film::{Ready, join_seams};
 use super::prepared::Note;
@@ -16,6 +17,7 @@ use crate::pointcloud::gaps::{
     AREA_OVERLAP, FAN_NEIGHBOURS, bound_by_area, fit_radii_clipped, own_radii,
 };
 use crate::pointcloud::knn::{KnnTable, PointIndex};
+use crate::pointcloud::screen::screen_fit;
 use crate::pointcloud::{
     EstimateOptions, PointCloud, fill_missing_keeping_table, repair, validate,
 };
@@ -287,7 +289,11 @@ fn complete(
     };
     // One neighbour index and one table for the estimates and the fit.
     let mut index = None;
-    let fit_k = if film.fit_radii { FAN_NEIGHBOURS } else { 0 };
+    let fit_k = if film.fit_radii.may_fit() {
+        FAN_NEIGHBOURS
+    } else {
+        0
+    };
     let (report, table) = fill_missing_keeping_table(&mut cloud, &estimate, fit_k, &mut index);
     notes.push(Note {
         routine: report.filled_nothing(),
@@ -297,30 +303,14 @@ fn complete(
         validate(&cloud).map_err(name)?;
     }
     let own = bound_by_own_area(&label, &mut cloud, notes);
-    let mut table = table;
-    let mut clips = Vec::new();
-    if film.fit_radii
-        && let Some(r) = cloud.radius.as_mut()
-    {
-        // Radii fitted to the sampling: no pinholes inside, no bulge at open edges. The
-        // estimate's table serves if it has the neighbours; else one whole table is searched
-        // (the memory estimate counts it: 96 B a particle), which the disks' first-order
-        // detail then reuses, and which parallelises better than slices of rows.
-        let index = index.unwrap_or_else(|| PointIndex::build(&cloud.positions));
-        if table.as_ref().is_none_or(|t| t.k < FAN_NEIGHBOURS) {
-            table = Some(KnnTable::build_with(
-                &index,
-                &cloud.positions,
-                FAN_NEIGHBOURS,
-            ));
-        }
-        let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
-        let normals = cloud.normals.as_deref().unwrap_or_default();
-        let (fit, cut) = fit_radii_clipped(&index, &cloud.positions, normals, r, t, &own);
-        notes.push(Note::new(format!("{label}: {fit}")));
-        clips = cut;
-        trim_detached(&label, r, &own, table.as_ref(), notes);
-    }
+    let (table, clips) = fit(
+        &label,
+        &mut cloud,
+        film.fit_radii,
+        (index, table),
+        &own,
+        notes,
+    );
     Ok(Ready {
         cloud,
         table,
@@ -328,6 +318,59 @@ fn complete(
         clips,
         notes: Vec::new(),
     })
+}
+
+/// Fits `cloud`'s radii to the sampling as `mode` says (see [`FitRadii`]), with the
+/// estimate's neighbour `index` and `table` if it built them; returns the table (the
+/// estimate's, or the fit's 12-neighbour one) and the edge cuts (empty: none).
+fn fit(
+    label: &str,
+    cloud: &mut PointCloud,
+    mode: FitRadii,
+    (index, mut table): (Option<PointIndex>, Option<KnnTable>),
+    own: &[f32],
+    notes: &mut Vec<Note>,
+) -> (Option<KnnTable>, Vec<EdgeClip>) {
+    let (Some(r), true) = (cloud.radius.as_mut(), mode.may_fit()) else {
+        return (table, Vec::new());
+    };
+    let index = index.unwrap_or_else(|| PointIndex::build(&cloud.positions));
+    let normals = cloud.normals.as_deref().unwrap_or_default();
+    if mode == FitRadii::Auto {
+        // The fit run on a sample first: where it changes none of them, the radii are kept
+        // and no 12-neighbour table is searched for it.
+        let screen = screen_fit(&index, &cloud.positions, normals, r, own);
+        notes.push(Note::new(format!("{label}: {screen}")));
+        if screen.keeps_radii() {
+            // Fitted without a change, an MLS support is never smaller than its own area
+            // (`build::mls_radii`, where the cuts are given): the same here.
+            let uncut = own.iter().any(|o| *o > 0.0);
+            return (
+                table,
+                if uncut {
+                    vec![NO_CLIP; r.len()]
+                } else {
+                    Vec::new()
+                },
+            );
+        }
+    }
+    // Radii fitted to the sampling: no pinholes inside, no bulge at open edges. The
+    // estimate's table serves if it has the neighbours; else one whole table is searched
+    // (the memory estimate counts it: 96 B a particle), which the disks' first-order
+    // detail then reuses, and which parallelises better than slices of rows.
+    if table.as_ref().is_none_or(|t| t.k < FAN_NEIGHBOURS) {
+        table = Some(KnnTable::build_with(
+            &index,
+            &cloud.positions,
+            FAN_NEIGHBOURS,
+        ));
+    }
+    let t = table.as_ref().filter(|t| t.k >= FAN_NEIGHBOURS);
+    let (fit, cut) = fit_radii_clipped(&index, &cloud.positions, normals, r, t, own);
+    notes.push(Note::new(format!("{label}: {fit}")));
+    trim_detached(label, r, own, table.as_ref(), notes);
+    (table, cut)
 }
 
 /// No splat larger than the particle's own area allows, fitted or not ([`bound_by_area`]);

@@ -35,6 +35,7 @@ pub mod config;
 mod droplets;
 mod environment_config;
 pub mod film_data;
+mod fit_mode;
 mod foam;
 pub mod framing;
 mod image_size;
@@ -65,6 +66,7 @@ mod visibility;
 
 pub use config::RenderConfig;
 pub use droplets::{EARLIER_FRAMES, read_input_parts, size_droplets};
+pub use fit_mode::FitRadii;
 pub use framing::camera;
 pub use liquid::LiquidMode;
 pub use load::{

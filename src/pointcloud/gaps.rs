@@ -179,19 +179,11 @@ pub fn fit_radii_looking(
     {
         return (GapReport::default(), Vec::new());
     }
-    let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
-    let cap = MAX_GROWTH * median;
-    let longest = LONG_EDGE * median_kth_distance(index, positions, SPACING_RANK);
+    let (cap, longest) = scales(index, positions, radii);
     // Particles adrift past a rupture are drawn at their own size and span no film.
     let adrift = adrift_flags(index, (positions, normals), own, table, FAN_NEIGHBOURS);
     let drifting = |j: usize| adrift.get(j).copied().unwrap_or(false);
-    let fit = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
-        if drifting(i) {
-            return Fit::Isolated(f32::INFINITY);
-        }
-        let row = &mut row.filter(|(j, _)| !drifting(*j as usize));
-        fan(i, positions, normals, radii[i].min(cap), longest, row, s)
-    };
+    let fit = fit_row((positions, normals, &*radii), (cap, longest), &drifting);
     // The first look, keeping each particle's distance to its SPACING_RANK-th neighbour.
     let first = |s: &mut FanScratch, i: usize, row: &mut dyn Iterator<Item = (u32, f32)>| {
         let f = fit(s, i, row);
@@ -219,6 +211,7 @@ pub fn fit_radii_looking(
     }
     let cloud = Cloud {
         index,
+        ids: None,
         positions,
         normals,
         longest,
@@ -226,6 +219,7 @@ pub fn fit_radii_looking(
         fit: &fit,
     };
     let (middle_looks, wide_looks) = second_looks(&cloud, &mut looked, look);
+    drop(fit);
     let (report, clips) = apply(radii, looked.into_iter().map(|(f, _)| f), cap, own);
     let report = GapReport {
         middle_looks,
@@ -236,9 +230,35 @@ pub fn fit_radii_looking(
     (report, clips)
 }
 
+/// The cloud's scales for its fans: the most a radius grows ([`MAX_GROWTH`] × the median
+/// radius) and the half-side of a fan's square ([`LONG_EDGE`] × the median distance to the
+/// [`SPACING_RANK`]-th neighbour), scene units.
+pub(super) fn scales(index: &PointIndex, positions: &[Vec3], radii: &[f32]) -> (f32, f32) {
+    let median = median_positive(radii.iter().copied()).unwrap_or(0.0);
+    let longest = LONG_EDGE * median_kth_distance(index, positions, SPACING_RANK);
+    (MAX_GROWTH * median, longest)
+}
+
+/// The fan of particle `i` from a row of its neighbours (nearest first), with the cloud's
+/// `(cap, longest)` from [`scales`]: the `drifting` left out of the row, and a drifting `i`
+/// isolated.
+pub(super) fn fit_row<'a>(
+    (positions, normals, radii): (&'a [Vec3], &'a [Vec3], &'a [f32]),
+    (cap, longest): (f32, f32),
+    drifting: &'a (dyn Fn(usize) -> bool + Sync),
+) -> impl Fn(&mut FanScratch, usize, &mut dyn Iterator<Item = (u32, f32)>) -> Fit + Sync + 'a {
+    move |s, i, row| {
+        if drifting(i) {
+            return Fit::Isolated(f32::INFINITY);
+        }
+        let row = &mut row.filter(|(j, _)| !drifting(*j as usize));
+        fan(i, positions, normals, radii[i].min(cap), longest, row, s)
+    }
+}
+
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×
 /// the particles' own sizes `own` where known: empty or 0 for unknown); returns the edge cuts.
-fn apply(
+pub(super) fn apply(
     radii: &mut [f32],
     fits: impl Iterator<Item = Fit>,
     cap: f32,

@@ -44,15 +44,23 @@ pub(super) type FitRow<'a> =
     &'a (dyn Fn(&mut FanScratch, usize, &mut dyn Iterator<Item = (u32, f32)>) -> Fit + Sync);
 
 /// What a second look needs of the cloud: its neighbour index, positions and unit normals,
-/// the half-side of a fan's square (`longest`, scene units), which particles are adrift, and
-/// the fan of a row.
+/// the half-side of a fan's square (`longest`, scene units), which particles are adrift, the
+/// fan of a row, and which particle each verdict is of (`None`: verdict `i` is particle `i`'s).
 pub(super) struct Cloud<'a> {
     pub index: &'a PointIndex,
+    pub ids: Option<&'a [u32]>,
     pub positions: &'a [Vec3],
     pub normals: &'a [Vec3],
     pub longest: f32,
     pub drifting: &'a (dyn Fn(usize) -> bool + Sync),
     pub fit: FitRow<'a>,
+}
+
+impl Cloud<'_> {
+    /// The particle whose verdict is the `k`-th.
+    fn id(&self, k: usize) -> usize {
+        self.ids.map_or(k, |ids| ids[k] as usize)
+    }
 }
 
 /// Looks again, as `look` says, at the particles whose first look was bounded or isolated
@@ -66,7 +74,8 @@ pub(super) fn second_looks(c: &Cloud, looked: &mut [Looked], look: SecondLook) -
         Fit::Sheet { bounded, .. } => *bounded,
     };
     let wider = |k: usize| {
-        move |s: &mut FanScratch, i: usize, _: Option<f32>| {
+        move |s: &mut FanScratch, slot: usize, _: Option<f32>| {
+            let i = c.id(slot);
             let row = c.index.nearest_excluding(c.positions[i], k, i as u32);
             (c.fit)(s, i, &mut row.into_iter())
         }
@@ -78,7 +87,8 @@ pub(super) fn second_looks(c: &Cloud, looked: &mut [Looked], look: SecondLook) -
         middle_looks = refit_where(looked, again, keep(wider(MIDDLE_NEIGHBOURS)));
     }
     let wide_looks = if look == SecondLook::Bounded {
-        let within = |s: &mut FanScratch, i: usize, sixth: Option<f32>| {
+        let within = |s: &mut FanScratch, slot: usize, sixth: Option<f32>| {
+            let i = c.id(slot);
             if (c.drifting)(i) {
                 return Fit::Isolated(f32::INFINITY);
             }
@@ -92,7 +102,7 @@ pub(super) fn second_looks(c: &Cloud, looked: &mut [Looked], look: SecondLook) -
                 c.drifting,
             ) {
                 Some(row) => (c.fit)(s, i, &mut row.into_iter()),
-                None => wider(WIDE_NEIGHBOURS)(s, i, sixth),
+                None => wider(WIDE_NEIGHBOURS)(s, slot, sixth),
             }
         };
         refit_where(looked, again, keep(within))

@@ -21,6 +21,7 @@ pub mod liquid;
 mod looks;
 pub mod mesh;
 pub mod orient;
+pub mod screen;
 pub mod span;
 pub mod stats;
 pub mod validate;

@@ -177,14 +177,26 @@ pub struct FilmDesc {
     /// (default: true, except with the `preview` preset; costs one neighbour search, ~0.6 s per
     /// million particles on two cores).
     pub curvature: Option<bool>,
-    /// Fit disk and MLS radii to the sampling (default true): grow them where disks would leave
-    /// a pinhole between neighbouring particles, trim them at open edges (rims, holes, rupture
-    /// fronts) so they end about half a spacing past the last particles. Spheres keep their
-    /// size. Costs one 12-neighbour search (shared with the disks' first-order detail).
-    pub fit_radii: Option<bool>,
+    /// Fit disk and MLS radii to the sampling: grow them where disks would leave a pinhole
+    /// between neighbouring particles, trim them at open edges (rims, holes, rupture fronts) so
+    /// they end about half a spacing past the last particles. Spheres keep their size. `true`
+    /// or "auto" (the default): only where the fit run on a sample of the particles changes
+    /// something; "always": every cloud; `false` or "never": radii as read or estimated. Costs
+    /// one 12-neighbour search (shared with the disks' first-order detail) and a fan a particle.
+    pub fit_radii: Option<FitRadiiKey>,
     /// Blend overlapping disks of one film layer into one crossing (default true). Off shows
     /// what unblended splats look like: the film applied once per disk, colours jumping at rims.
     pub blend: Option<bool>,
+}
+
+/// `film.fit_radii`: a flag (`true`: "auto", `false`: "never") or a name.
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[serde(untagged)]
+pub enum FitRadiiKey {
+    /// `true` or `false`.
+    Flag(bool),
+    /// "auto", "always" or "never".
+    Name(String),
 }
 
 /// `[camera]`: either explicit (`position` and `look_at`) or auto-framed from `from`.
