@@ -127,3 +127,28 @@ fn a_torn_fragments_mls_surface_covers_the_film_its_particles_hold() {
         assert_eq!(f.missing, 0, "{w}x{h}: {} of {} px", f.missing, f.interior);
     }
 }
+
+#[test]
+fn the_mls_march_finds_a_crossing_past_a_seam_where_f_jumps() {
+    // Bursting frame 57 (2,065 film particles, 497 droplets) as the MLS surface at 1 spp
+    // (`--preset preview`), 960×540, default camera: 16 pixels (0.028 %) counted as pinholes
+    // where the particles hold film, 6 of them on rays whose f holds a crossing at twice the
+    // weight threshold that the march skipped: first inside only the fringe of a support whose
+    // tangent plane lies ~5 spacings away, f ≈ +5 spacings, so `0.9·|f|` claimed there was no
+    // room for a zero before the end of the band, while past the seam (total weight ~10⁻⁵)
+    // f jumps to −1.5 spacings and crosses zero 3 spacings on. Now |f| bounds the room only
+    // within one march step of the band's end: 10 pixels (0.018 %).
+    let mut desc = preview("thin-film-sph/bursting_bubble/57");
+    desc.film.primitive = Some("mls".into());
+    let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
+    let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
+    let f = in_data(&desc, &span);
+    eprintln!(
+        "bursting 57 mls: {} of {} px, {:.4} %",
+        f.missing,
+        f.interior,
+        f.percent()
+    );
+    assert!(f.interior > 30_000, "{} px", f.interior);
+    assert!(f.percent() <= 0.02, "{:.4} %", f.percent());
+}

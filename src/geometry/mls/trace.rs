@@ -187,8 +187,11 @@ impl MlsSurface {
                             // near its zeros, but not where the weight fades out, and the end of
                             // a support interval may lie past such a seam (a wall's edge beside
                             // another wall) where f jumps, its size saying nothing of the room
-                            // before it.
-                            if STEP_OF_F * f.abs() >= s1 - t {
+                            // before it. Nor is this sample's, beyond one step: inside only the
+                            // fringe of a support whose plane lies spacings away, f is that far
+                            // from zero, and past the seam it may cross within a spacing
+                            // (bursting frame 57: `tests/torn_fragments.rs`).
+                            if STEP_OF_F * f.abs() >= s1 - t && s1 - t <= max_step {
                                 break; // no room for a zero before the end
                             }
                         } else if prev.is_none()
