@@ -73,6 +73,7 @@ fn film_flags(d: &mut SceneDesc, a: &RenderArgs) {
     let off = |flag: bool| flag.then_some(false);
     over(&mut i.repair, &a.repair.then_some(true));
     over(&mut i.liquid, &a.liquid);
+    over(&mut i.liquid_field, &a.liquid_field);
     over(&mut f.fit_radii, &off(a.raw_radii));
     over(&mut f.curvature, &off(a.flat_splats));
     over(&mut f.blend, &off(a.no_blend));
