@@ -267,6 +267,7 @@ fn brick_values(p: &Params, lo: Vec3, cell: f32, list: &[u32]) -> [f32; NODES] {
     let (mut w, mut s) = ([0.0f32; NODES], [Vec3::ZERO; NODES]);
     let inv_r2 = 1.0 / (p.support * p.support);
     let top = IVec3::splat(BRICK);
+    let r2 = p.support * p.support;
     for &i in list {
         let x = p.points[i as usize];
         let a = ((x - p.support - lo) / cell)
@@ -275,16 +276,26 @@ fn brick_values(p: &Params, lo: Vec3, cell: f32, list: &[u32]) -> [f32; NODES] {
             .max(IVec3::ZERO);
         let b = ((x + p.support - lo) / cell).floor().as_ivec3().min(top);
         for nz in a.z..=b.z {
+            let dz = x.z - (lo.z + nz as f32 * cell);
             for ny in a.y..=b.y {
-                for nx in a.x..=b.x {
-                    let node = lo + IVec3::new(nx, ny, nz).as_vec3() * cell;
-                    let d = x - node;
-                    let q = 1.0 - d.length_squared() * inv_r2;
+                let dy = x.y - (lo.y + ny as f32 * cell);
+                let off = dy * dy + dz * dz;
+                if off >= r2 {
+                    continue;
+                }
+                // The row's nodes within the support: |dx| < √(R² − dy² − dz²).
+                let half = (r2 - off).sqrt();
+                let x0 = (-floor((lo.x - x.x + half) / cell)).max(a.x);
+                let x1 = floor((x.x + half - lo.x) / cell).min(b.x);
+                let row = nz as usize * SIDE * SIDE + ny as usize * SIDE;
+                for nx in x0..=x1 {
+                    let dx = x.x - (lo.x + nx as f32 * cell);
+                    let q = 1.0 - (dx * dx + off) * inv_r2;
                     if q > 0.0 {
-                        let n = nz as usize * SIDE * SIDE + ny as usize * SIDE + nx as usize;
+                        let n = row + nx as usize;
                         let wi = q * q * q;
                         w[n] += wi;
-                        s[n] += wi * d;
+                        s[n] += wi * Vec3::new(dx, dy, dz);
                     }
                 }
             }
