@@ -1,10 +1,11 @@
 //! The liquid surface against the MLS film surface, on the real frame drops_on_film/105
 //! (tests/data): build time per particle, and single-thread CPU time per camera ray that hits
-//! (a camera aimed at the drops for the liquid, at the film for MLS, the same 200×150 grid).
+//! (a camera aimed at the drops for the liquid, at the film for MLS, the same 200×150 grid); the
+//! liquid on its field's grid (the default) and exact (`--liquid-field exact`).
 //!
 //! `cargo bench --bench liquid`
 
-use filmsplat::geometry::{FilmGeometry, LiquidSurface};
+use filmsplat::geometry::{FilmGeometry, LiquidField, LiquidSurface};
 use filmsplat::pipeline;
 use filmsplat::render::Camera;
 use filmsplat::scene::SceneDesc;
@@ -68,6 +69,13 @@ fn main() {
         std::hint::black_box(LiquidSurface::build(&pts, liquid.spacing()).unwrap());
     }
     let liquid_build = t.elapsed().as_nanos() as f64 / (reps * pts.len()) as f64;
+    let t = Instant::now();
+    for _ in 0..reps {
+        let field = LiquidField::Exact;
+        std::hint::black_box(LiquidSurface::build_with(&pts, liquid.spacing(), field).unwrap());
+    }
+    let exact_build = t.elapsed().as_nanos() as f64 / (reps * pts.len()) as f64;
+    let exact = LiquidSurface::build_with(&pts, liquid.spacing(), LiquidField::Exact).unwrap();
     let mls_build = p.build_time.as_nanos() as f64 / p.particles as f64;
     // One body (the 8×8×8 block, centre ≈ (−0.025, 0.178, −0.157)) filling the view; the film
     // from above at the same distance.
@@ -76,6 +84,8 @@ fn main() {
     let (l_ray, l_hit, l_hits) = per_ray(&cam_l, |r| {
         liquid.intersect(r, 0.0, f32::INFINITY).is_some()
     });
+    let (e_ray, e_hit, e_hits) =
+        per_ray(&cam_l, |r| exact.intersect(r, 0.0, f32::INFINITY).is_some());
     let film = Vec3::new(0.05, 0.0, 0.05);
     let cam_m = Camera::look_at(film + Vec3::new(0.03, 0.04, 0.05), film, Vec3::Y, 35.0);
     let (m_ray, m_hit, m_hits) =
@@ -85,8 +95,15 @@ fn main() {
         pts.len()
     );
     println!(
+        "liquid, exact field (--liquid-field exact): build {exact_build:.0} ns/particle; {e_ray:.0} ns/ray, {e_hit:.0} ns/hit ({e_hits} of 30000 rays hit)"
+    );
+    println!(
         "mls:    {} particles, build {mls_build:.0} ns/particle (pipeline build stage); {m_ray:.0} ns/ray, {m_hit:.0} ns/hit ({m_hits} of 30000 rays hit)",
         p.particles
     );
-    println!("liquid / mls per hit: {:.2}", l_hit / m_hit);
+    println!(
+        "liquid / mls per hit: {:.2} (grid), {:.2} (exact)",
+        l_hit / m_hit,
+        e_hit / m_hit
+    );
 }

@@ -46,3 +46,55 @@ fn a_liquid_only_frame_renders_its_liquid_and_names_the_stand_in_film() {
         share * 100.0
     );
 }
+
+/// The water drawn from the field's grid (the default) and from the exact field: the same
+/// body, so the same coverage and about the same light (refraction inside the ball is chaotic,
+/// so pixels differ one by one, not in their statistics).
+#[test]
+fn the_grid_and_the_exact_field_draw_the_same_body() {
+    let render = |field: &str| {
+        let exr = tmp(&format!("liquid_field_{field}.exr"));
+        let png = tmp(&format!("liquid_field_{field}.png"));
+        let (code, _, err) = filmsplat(&[
+            "render",
+            FRAME,
+            "--size",
+            "96x72",
+            "--spp",
+            "4",
+            "--liquid-field",
+            field,
+            "-o",
+            png.to_str().unwrap(),
+            "--exr",
+            exr.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let layers = filmsplat::image::read_exr(&exr).unwrap();
+        let n = layers.rgba.len() as f32;
+        let alpha: f32 = layers.rgba.iter().map(|p| p[3]).sum::<f32>() / n;
+        let light: f32 = layers.rgba.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / n;
+        (alpha, light)
+    };
+    let (grid, exact) = (render("grid"), render("exact"));
+    assert!(grid.0 > 0.1, "coverage {grid:?}");
+    assert!(
+        (grid.0 - exact.0).abs() < 0.005,
+        "coverage: grid {grid:?}, exact {exact:?}"
+    );
+    assert!(
+        (grid.1 / exact.1 - 1.0).abs() < 0.05,
+        "mean light: grid {grid:?}, exact {exact:?}"
+    );
+}
+
+#[test]
+fn an_unknown_liquid_field_is_refused_in_one_line() {
+    let (code, _, err) = filmsplat(&["render", FRAME, "--liquid-field", "voxels", "-o", "-"]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("liquid_field") && err.contains("'voxels'"),
+        "{err}"
+    );
+}

@@ -55,6 +55,7 @@ _KNOBS = {
         "radius_attr",
         "repair",
         "liquid",
+        "liquid_field",
     ),
     "film": (
         "ior",
@@ -212,7 +213,8 @@ class Scene:
     * ``liquid=``: how a thin-film SPH frame's 3D particles are drawn: "auto" (the default:
       those present since the run's frame 0 ``<run>/0`` as water where packed into bodies,
       those shed later, when frame 0 holds none, as droplets), "surface" (bodies by packing
-      alone) or "droplets" (every one a droplet).
+      alone) or "droplets" (every one a droplet); ``liquid_field=``: "grid" (the default) or
+      "exact", how rays find the water's surface.
 
     Building releases the GIL; missing normals and radii are estimated here.
     """

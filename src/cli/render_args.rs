@@ -119,6 +119,11 @@ pub struct RenderArgs {
     /// water surface; the rest droplets) or droplets (every 3D particle a droplet).
     #[arg(long)]
     pub(super) liquid: Option<String>,
+    /// How rays find a liquid body's surface: grid (the default: the field sampled once on a
+    /// grid of 3 cells a spacing, within 0.03 spacings of the exact surface) or exact (the
+    /// field summed over the particles at every step: slower).
+    #[arg(long)]
+    pub(super) liquid_field: Option<String>,
     /// Lighting: studio (built-in), white (uniform white), or a lat-long .exr panorama.
     #[arg(long)]
     pub(super) env: Option<String>,

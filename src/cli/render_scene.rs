@@ -73,6 +73,7 @@ fn film_flags(d: &mut SceneDesc, a: &RenderArgs) {
     let off = |flag: bool| flag.then_some(false);
     over(&mut i.repair, &a.repair.then_some(true));
     over(&mut i.liquid, &a.liquid);
+    over(&mut i.liquid_field, &a.liquid_field);
     let fit = a.fit_radii.clone().map(FitRadiiKey::Name);
     over(
         &mut f.fit_radii,

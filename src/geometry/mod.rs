@@ -52,7 +52,10 @@ pub use disks::DiskGeometry;
 pub use droplets::{DropletHit, Droplets, GrownDroplets, GrownHit, WATER_IOR};
 pub use film::FilmGeometry;
 pub use hit::SurfaceHit;
-pub use liquid::{KERNEL_SPACINGS, LiquidHit, LiquidPoint, LiquidSurface, VOLUME_RADIUS};
+pub use liquid::{
+    CELLS_PER_SPACING, KERNEL_SPACINGS, LiquidField, LiquidHit, LiquidPoint, LiquidSurface,
+    VOLUME_RADIUS,
+};
 pub use mesh::{MeshGeometry, MeshSides};
 pub use mls::{MlsParams, MlsPoint, MlsSurface};
 pub use primitive_kind::Primitive;

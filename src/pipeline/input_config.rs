@@ -6,6 +6,7 @@
 use super::liquid_mode::{self, LiquidMode};
 use super::melp_sets::MelpSet;
 use super::sample_check::check_sample_params;
+use crate::geometry::LiquidField;
 use crate::io::ReadOptions;
 use crate::samples::{SampleKind, SampleParams};
 use crate::scene::{InputDesc, SceneDesc};
@@ -16,6 +17,8 @@ use crate::{Error, Result};
 pub struct InputConfig {
     /// How 3D particles packed into bodies of liquid are drawn.
     pub liquid: LiquidMode,
+    /// How rays find a liquid body's surface.
+    pub liquid_field: LiquidField,
     /// Particles come from the scene's `[input]` (`false`: a cloud given in memory replaces
     /// it, and only `input.liquid` and `input.repair` apply).
     pub from_input: bool,
@@ -29,11 +32,13 @@ pub struct InputConfig {
 /// [`Error::Invalid`] naming the key, with the loader's own message.
 pub fn input(desc: &SceneDesc, given_cloud: bool) -> Result<InputConfig> {
     let liquid = liquid_mode::mode(desc)?;
+    let liquid_field = liquid_mode::field(desc)?;
     if !given_cloud {
         particles(desc)?;
     }
     Ok(InputConfig {
         liquid,
+        liquid_field,
         from_input: !given_cloud,
     })
 }

@@ -11,7 +11,7 @@ use super::Note;
 pub use super::liquid_mode::LiquidMode;
 use super::liquid_origin::{Origin, origin, shed_by_thickness};
 use crate::Result;
-use crate::geometry::LiquidSurface;
+use crate::geometry::{LiquidField, LiquidSurface};
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::liquid::classify;
 
@@ -45,7 +45,7 @@ impl Split {
 /// As [`LiquidSurface::build`].
 pub(super) fn split(
     drops: &[PointCloud],
-    mode: LiquidMode,
+    (mode, field): (LiquidMode, LiquidField),
     inputs: &[PathBuf],
     notes: &mut Vec<Note>,
 ) -> Result<Split> {
@@ -78,11 +78,16 @@ pub(super) fn split(
             Origin::Unknown(why) => format!("{why}: positions decide"),
         },
     };
-    by_packing(drops, &why, notes)
+    by_packing(drops, &why, field, notes)
 }
 
 /// [`split`] by the particles' packing ([`classify`]); `why` starts the note.
-fn by_packing(drops: &[PointCloud], why: &str, notes: &mut Vec<Note>) -> Result<Split> {
+fn by_packing(
+    drops: &[PointCloud],
+    why: &str,
+    field: LiquidField,
+    notes: &mut Vec<Note>,
+) -> Result<Split> {
     let total: usize = drops.iter().map(PointCloud::len).sum();
     let positions: Vec<_> = drops
         .iter()
@@ -96,7 +101,7 @@ fn by_packing(drops: &[PointCloud], why: &str, notes: &mut Vec<Note>) -> Result<
         return Ok(Split::none(drops));
     }
     let liquid: Vec<_> = split.liquid.iter().map(|&i| positions[i]).collect();
-    let surface = LiquidSurface::build(&liquid, split.spacing)?;
+    let surface = LiquidSurface::build_with(&liquid, split.spacing, field)?;
     let mut keep = vec![false; total];
     split.droplets.iter().for_each(|&i| keep[i] = true);
     let mut start = 0;

@@ -1,6 +1,7 @@
 //! How bulk liquid is drawn (`[input] liquid`, `--liquid`): the typed choice, checked in
 //! [`super::input_config`] and used by [`super::liquid`].
 
+use crate::geometry::LiquidField;
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
 use std::str::FromStr;
@@ -32,6 +33,28 @@ impl FromStr for LiquidMode {
                 "input.liquid: unknown value '{s}' (expected 'auto', 'surface' or 'droplets')"
             ))),
         }
+    }
+}
+
+/// The scene's choice of how rays find a liquid body's surface (`[input] liquid_field`:
+/// `"grid"`, the default, or `"exact"`, case-insensitive).
+///
+/// # Errors
+/// An unknown value.
+pub(super) fn field(desc: &SceneDesc) -> Result<LiquidField> {
+    match desc
+        .input
+        .liquid_field
+        .as_deref()
+        .map(|s| s.trim().to_ascii_lowercase())
+    {
+        None => Ok(LiquidField::Grid),
+        Some(s) if s == "grid" => Ok(LiquidField::Grid),
+        Some(s) if s == "exact" => Ok(LiquidField::Exact),
+        Some(_) => Err(Error::invalid(format!(
+            "input.liquid_field: unknown value '{}' (expected 'grid' or 'exact')",
+            desc.input.liquid_field.as_deref().unwrap_or_default()
+        ))),
     }
 }
 

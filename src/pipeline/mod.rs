@@ -360,7 +360,12 @@ fn load(
         kept,
         surface: liquid,
         liquid: liquid_index,
-    } = liquid::split(&drops, config.input.liquid, &inputs, notes)?;
+    } = liquid::split(
+        &drops,
+        (config.input.liquid, config.input.liquid_field),
+        &inputs,
+        notes,
+    )?;
     let droplets = build::droplets(&kept)?;
     // Kept for motion blur's slices only (they move the droplets too).
     let kept = if config.shutter.is_some() {

@@ -62,7 +62,7 @@ pub(super) fn move_staging(
         let liquid = match &liquid {
             Some((p, v)) => {
                 let at: Vec<Vec3> = p.iter().zip(v).map(|(p, v)| *p + *v * t).collect();
-                LiquidSurface::build(&at, staging.liquid.spacing())?
+                LiquidSurface::build_with(&at, staging.liquid.spacing(), staging.liquid.field())?
             }
             None => staging.liquid.clone(),
         };

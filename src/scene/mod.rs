@@ -151,6 +151,10 @@ pub struct InputDesc {
     /// they came from decides), "surface" (a water surface through them) or "droplets" (every
     /// 3D particle a droplet).
     pub liquid: Option<String>,
+    /// How rays find a liquid body's surface: "grid" (the default: the field sampled once on a
+    /// grid of 3 cells a spacing, within 0.03 spacings of the exact surface) or "exact" (the
+    /// field summed over the particles at every step: slower).
+    pub liquid_field: Option<String>,
     /// Which set of a MELP frame is drawn when its Eulerian (`e_`) and Lagrangian (`l_`) files
     /// are both given: "lagrangian" (default), "eulerian" or "both".
     pub melp_set: Option<String>,

@@ -96,6 +96,10 @@ pub const TABLE: &[(&str, How)] = &[
         "filmsplat render tests/data/thin-film-sph/drops_on_film/105 --liquid droplets -o dust.png",
         Small,
     ),
+    (
+        "filmsplat render tests/data/thin-film-sph/drops_on_film/105 --liquid-field exact -o exact.png",
+        Small,
+    ),
     // README: movies
     (
         "filmsplat render 'out/{}' --frames 0..131 -o burst.mp4 --size 640x360",

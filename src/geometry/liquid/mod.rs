@@ -20,6 +20,7 @@
 //! Queries are `&self` and thread-safe.
 
 mod field;
+mod grid;
 mod trace;
 
 use glam::Vec3;
@@ -29,12 +30,26 @@ use super::primitives::sphere_bounds;
 use super::{Aabb, Bvh};
 use crate::{Error, Result};
 use field::Sums;
+pub use grid::CELLS_PER_SPACING;
+use grid::{FieldGrid, Params};
 
 /// Kernel radius of the field in liquid spacings (see the module docs for why 2.25).
 pub const KERNEL_SPACINGS: f32 = 2.25;
 
 /// Radius of a sphere of volume s³ in spacings s: (3 / 4π)^⅓.
 pub const VOLUME_RADIUS: f32 = 0.620_350_5;
+
+/// How rays find the surface: on the field sampled once on a grid (the default), or on the
+/// field summed over the particles at every step (exact, ~4–10× the rays' cost).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LiquidField {
+    /// φ at the nodes of a grid of [`CELLS_PER_SPACING`] cells a spacing, interpolated
+    /// trilinearly (the `grid` module); normals from the exact field at the crossing.
+    #[default]
+    Grid,
+    /// φ summed over the particles within reach at every march step.
+    Exact,
+}
 
 /// Where a ray crosses the liquid's surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,6 +88,8 @@ pub struct LiquidSurface {
     radius: f32,
     /// Kernel radius R = [`KERNEL_SPACINGS`] s.
     support: f32,
+    /// The field on a grid, unless rays sum it exactly ([`LiquidField`]).
+    grid: Option<FieldGrid>,
 }
 
 impl LiquidSurface {
@@ -83,6 +100,15 @@ impl LiquidSurface {
     /// # Errors
     /// A non-finite position or a spacing that is not finite and positive.
     pub fn build(positions: &[Vec3], spacing: f32) -> Result<Self> {
+        Self::build_with(positions, spacing, LiquidField::default())
+    }
+
+    /// [`LiquidSurface::build`] with rays finding the surface as `field` says; the grid adds
+    /// the field's samples to the build (about 1,300 node updates a particle, parallel).
+    ///
+    /// # Errors
+    /// As [`LiquidSurface::build`].
+    pub fn build_with(positions: &[Vec3], spacing: f32, field: LiquidField) -> Result<Self> {
         if positions.is_empty() {
             return Ok(LiquidSurface::default());
         }
@@ -104,13 +130,23 @@ impl LiquidSurface {
             |_| support,
             |i| sphere_bounds(positions[i], support),
         );
-        let points = bvh.order().iter().map(|&i| positions[i as usize]).collect();
+        let points: Vec<Vec3> = bvh.order().iter().map(|&i| positions[i as usize]).collect();
+        let radius = VOLUME_RADIUS * spacing;
+        let grid = (field == LiquidField::Grid).then(|| {
+            FieldGrid::build(&Params {
+                points: &points,
+                spacing,
+                radius,
+                support,
+            })
+        });
         Ok(LiquidSurface {
             bvh,
             points,
             spacing,
-            radius: VOLUME_RADIUS * spacing,
+            radius,
             support,
+            grid,
         })
     }
 
@@ -122,6 +158,15 @@ impl LiquidSurface {
     /// True if there are none.
     pub fn is_empty(&self) -> bool {
         self.points.is_empty()
+    }
+
+    /// How rays find the surface.
+    pub fn field(&self) -> LiquidField {
+        if self.grid.is_some() || self.is_empty() {
+            LiquidField::Grid
+        } else {
+            LiquidField::Exact
+        }
     }
 
     /// The liquid spacing s, scene units.
@@ -140,7 +185,9 @@ impl LiquidSurface {
 
     /// Heap bytes held.
     pub fn memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.points.len() * 12
+        self.bvh.memory_bytes()
+            + self.points.len() * 12
+            + self.grid.as_ref().map_or(0, FieldGrid::memory_bytes)
     }
 
     /// The field at `x` (a BVH point query over the support spheres). Cost: O(log n) plus
