@@ -3,7 +3,7 @@
 
 use super::MlsSurface;
 use super::band;
-use super::field::{self, Cand};
+use super::field::{self, Cand, Chord};
 use super::gathered::{GATHERED, QueryKey, sort_by_entry};
 use crate::geometry::primitives::sphere_roots;
 use crate::geometry::{Ray, SurfaceHit};
@@ -88,13 +88,39 @@ impl MlsSurface {
     #[inline(always)]
     pub(super) fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
         let q = &self.particles[slot as usize];
-        let mut c = self.cand(slot, ta, tb);
-        (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
         // The chord as `sphere_roots` computes it: b = d·(p − o), k2 = h² − |perpendicular|².
         let f = ray.origin - q.p;
-        c.b = -f.dot(ray.dir);
-        c.k2 = q.h * q.h - (f + c.b * ray.dir).length_squared();
-        c
+        let b = -f.dot(ray.dir);
+        let chord = Chord {
+            ta,
+            tb,
+            b,
+            k2: q.h * q.h - (f + b * ray.dir).length_squared(),
+            inv_h2: 1.0 / (q.h * q.h),
+            r: q.h / self.params.support,
+        };
+        self.cand_chord(ray, slot, chord)
+    }
+
+    /// The candidate record of the sphere in `slot` from its chord along the ray, computed
+    /// already (by `cand_on`, or four at a time by the gathering).
+    #[inline(always)]
+    pub(super) fn cand_chord(&self, ray: &Ray, slot: u32, c: Chord) -> Cand {
+        let q = &self.particles[slot as usize];
+        Cand {
+            p: q.p,
+            inv_h2: c.inv_h2,
+            n: q.n,
+            thickness: q.thickness,
+            ta: c.ta,
+            tb: c.tb,
+            slot,
+            r: c.r,
+            g0: q.n.dot(ray.origin - q.p),
+            g1: q.n.dot(ray.dir),
+            b: c.b,
+            k2: c.k2,
+        }
     }
 
     /// Sorts `cands` and marches the union of their support intervals, one connected piece at a
