@@ -1,4 +1,4 @@
-//! The near-first gathering of the support spheres along a ray: a BVH traversal whose leaves'
+//! The gathering of the support spheres along a ray: a BVH traversal whose leaves'
 //! spheres are tested four at a time (SSE lanes), each lane computing exactly what
 //! [`sphere_roots`](crate::geometry::primitives::sphere_roots) does, in the same order.
 
@@ -9,22 +9,18 @@ use super::field::{Cand, Chord};
 use crate::geometry::Ray;
 use crate::geometry::ray4::{Ray4, lane_mask};
 
-/// The first gathering pass collects the support spheres entered within this many support
-/// radii of the first one: enough for a film crossed at up to ~70° from its normal.
-pub(super) const WINDOW: f32 = 6.0;
-
 impl MlsSurface {
-    /// Collects into `cands` the support spheres the ray is inside somewhere in
-    /// `(from, t_max)`, entered within [`WINDOW`] support radii of the first one, and returns
-    /// that window's end. Every sphere entered before the window is visited (nodes are culled
-    /// only beyond the shrinking bound), so support intervals ending before it are complete,
-    /// and nothing covers the window's end itself once they all have ended.
-    pub(super) fn gather(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) -> f32 {
+    /// Collects into `cands` every support sphere the ray is inside somewhere in
+    /// `(from, t_max)`, in the order of the BVH's near-first traversal (a leaf's spheres in
+    /// slot order). The whole ray at once: gathering only the spheres entered within a window
+    /// of 6 support radii beyond the first one, and traversing again for the rest when no
+    /// crossing lay in it (a bubble's back wall, a transmitted branch), cost more on the real
+    /// frames (docs/benchmarks.md); the pictures are the same either way.
+    pub(super) fn gather_all(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) {
         cands.clear();
-        let mut window = t_max;
         let r4 = Ray4::new(ray);
         self.bvh
-            .closest_leaves(ray, from, t_max, |first, count, bound| {
+            .closest_leaves(ray, from, t_max, |first, count, _| {
                 let end = first + count;
                 for s in (first..end).step_by(4) {
                     let lanes = (end - s).min(4) as usize;
@@ -36,29 +32,22 @@ impl MlsSurface {
                     // 1/h² and the particle radius h/support, as `cand` computes them.
                     let inv_h2 = Vec4::ONE / (c.h * c.h);
                     let r = c.h / Vec4::splat(self.params.support);
-                    // In slot order, as the bound shrinks.
+                    // In slot order.
                     while m != 0 {
                         let i = m.trailing_zeros() as usize;
                         m &= m - 1;
-                        if c.ta[i] <= *bound {
-                            let e = c.ta[i] + WINDOW * c.h[i];
-                            window = window.min(e);
-                            *bound = bound.min(e);
-                            let chord = Chord {
-                                ta: c.ta[i],
-                                tb: c.tb[i],
-                                b: c.b[i],
-                                k2: c.k2[i],
-                                inv_h2: inv_h2[i],
-                                r: r[i],
-                            };
-                            cands.push(self.cand_chord(ray, s + i as u32, chord));
-                        }
+                        let chord = Chord {
+                            ta: c.ta[i],
+                            tb: c.tb[i],
+                            b: c.b[i],
+                            k2: c.k2[i],
+                            inv_h2: inv_h2[i],
+                            r: r[i],
+                        };
+                        cands.push(self.cand_chord(ray, s + i as u32, chord));
                     }
                 }
             });
-        cands.retain(|c| c.ta <= window);
-        window
     }
 
     /// Where the ray is inside each of the support spheres of slots `s .. s + lanes` (at most
