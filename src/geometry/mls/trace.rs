@@ -50,9 +50,7 @@ impl MlsSurface {
                 g.key = Some(key);
             }
             g.from = t_min;
-            // Every support interval is complete (all spheres up to `t_max` are gathered), so
-            // the march never asks for more.
-            self.march_sheets(ray, &mut g.cands, t_max).ok().flatten()
+            self.march_sheets(ray, &mut g.cands)
         })
     }
 
@@ -106,16 +104,10 @@ impl MlsSurface {
 
     /// Sorts `cands` and marches the union of their support intervals, one connected piece at a
     /// time, returning the first valid crossing; inside each piece only the band where the
-    /// tangent planes allow a crossing is marched. Only intervals ending by `complete` are known
-    /// to hold all their spheres: reaching one that does not gives `Err(its start)`. Intervals
-    /// starting beyond `stop` (a crossing is already known there) are not marched.
-    pub(super) fn march_all(
-        &self,
-        ray: &Ray,
-        cands: &mut [Cand],
-        complete: f32,
-        stop: f32,
-    ) -> Result<Option<SurfaceHit>, f32> {
+    /// tangent planes allow a crossing is marched. `cands` holds every sphere along the part of
+    /// the ray queried, so each interval is complete. Intervals starting beyond `stop` (a
+    /// crossing is already known there) are not marched.
+    pub(super) fn march_all(&self, ray: &Ray, cands: &mut [Cand], stop: f32) -> Option<SurfaceHit> {
         sort_by_entry(cands);
         let mut i = 0;
         while i < cands.len() {
@@ -129,9 +121,6 @@ impl MlsSurface {
                 r = r.min(cands[j].r);
                 j += 1;
             }
-            if s1 > complete {
-                return Err(s0);
-            }
             let piece = &cands[i..j];
             let tol = tolerance(ray, s1, r);
             if let Some((u, v)) = band::sign_band(piece, s0, s1, tol) {
@@ -141,12 +130,12 @@ impl MlsSurface {
                 let last = piece.partition_point(|c| c.ta <= v);
                 let first = piece[..last].iter().position(|c| c.tb >= u).unwrap_or(last);
                 if let Some(hit) = self.march(ray, &piece[first..last], u, v, r, tol) {
-                    return Ok(Some(hit));
+                    return Some(hit);
                 }
             }
             i = j;
         }
-        Ok(None)
+        None
     }
 
     /// The first valid crossing in `[s0, s1]` (part of a support interval covered by `cands`,
