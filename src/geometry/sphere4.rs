@@ -27,14 +27,29 @@ pub(super) const PAD_SPHERE: SpherePrim = SpherePrim {
     thickness: 0.0,
 };
 
+/// Four rays' roots with four spheres ([`Ray4::sphere_roots4`]), lane `i` sphere `i`.
+pub(crate) struct Roots4 {
+    /// The two roots, unordered.
+    pub t0: Vec4,
+    /// See `t0`.
+    pub t1: Vec4,
+    /// The lanes whose roots are real (false for NaN).
+    pub real: BVec4A,
+    /// Where the ray passes closest to the centre, d·(c − o), scene units (`b` of
+    /// `sphere_roots`).
+    pub b: Vec4,
+    /// The half chord's square, r² − e² (e the centre's distance from the ray), scene units².
+    pub disc: Vec4,
+}
+
 impl Ray4 {
     /// The two roots along the ray of each of four spheres, `c`'s rows the centres' x, y, z
     /// and the radii (lane `i` a sphere), unordered, and the lanes where they are real (false
     /// for NaN). The operations of [`sphere_roots`](super::primitives::sphere_roots) in its
     /// order, so each lane is bit-identical to it; a ray tangent at its origin (q = 0) gets a
-    /// double root at 0.
+    /// double root at 0. The chord's middle and half-length² come with them (see [`Roots4`]).
     #[inline(always)]
-    pub(crate) fn sphere_roots4(&self, c: &Mat4) -> (Vec4, Vec4, BVec4A) {
+    pub(crate) fn sphere_roots4(&self, c: &Mat4) -> Roots4 {
         let (fx, fy, fz) = (self.ox - c.x_axis, self.oy - c.y_axis, self.oz - c.z_axis);
         let b = -(fx * self.dx + fy * self.dy + fz * self.dz);
         let (px, py, pz) = (fx + b * self.dx, fy + b * self.dy, fz + b * self.dz);
@@ -44,9 +59,15 @@ impl Ray4 {
         let cc = (fx * fx + fy * fy + fz * fz) - r2;
         let q = b + disc.sqrt().copysign(b);
         let zero = q.cmpeq(Vec4::ZERO);
-        let ta = Vec4::select(zero, Vec4::ZERO, cc / q);
-        let tb = Vec4::select(zero, Vec4::ZERO, q);
-        (ta, tb, real)
+        let t0 = Vec4::select(zero, Vec4::ZERO, cc / q);
+        let t1 = Vec4::select(zero, Vec4::ZERO, q);
+        Roots4 {
+            t0,
+            t1,
+            real,
+            b,
+            disc,
+        }
     }
 
     /// The first crossing with `t_min < t < t_max` of each of the spheres `spheres[0..4]` (the
@@ -68,7 +89,12 @@ impl Ray4 {
             cr(&spheres[3]),
         )
         .transpose();
-        let (ta, tb, real) = self.sphere_roots4(&c);
+        let Roots4 {
+            t0: ta,
+            t1: tb,
+            real,
+            ..
+        } = self.sphere_roots4(&c);
         let (t0, t1) = (ta.min(tb), ta.max(tb));
         let (lo, hi) = (Vec4::splat(t_min), Vec4::splat(t_max));
         let in0 = t0.cmpgt(lo) & t0.cmplt(hi);

@@ -44,6 +44,17 @@ pub(super) struct Cand {
     pub k2: f32,
 }
 
+/// A support sphere's chord along a ray and the per-particle terms of [`Cand`] (see there).
+#[derive(Clone, Copy)]
+pub(super) struct Chord {
+    pub ta: f32,
+    pub tb: f32,
+    pub b: f32,
+    pub k2: f32,
+    pub inv_h2: f32,
+    pub r: f32,
+}
+
 /// Everything known about the surface at one point.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct FieldSample {

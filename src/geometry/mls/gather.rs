@@ -1,72 +1,99 @@
-//! The near-first gathering of the support spheres along a ray: a BVH traversal whose leaves'
+//! The gathering of the support spheres along a ray: a BVH traversal whose leaves'
 //! spheres are tested four at a time (SSE lanes), each lane computing exactly what
 //! [`sphere_roots`](crate::geometry::primitives::sphere_roots) does, in the same order.
 
 use glam::{Mat4, Vec4};
 
 use super::MlsSurface;
-use super::field::Cand;
+use super::field::{Cand, Chord};
 use crate::geometry::Ray;
 use crate::geometry::ray4::{Ray4, lane_mask};
 
-/// The first gathering pass collects the support spheres entered within this many support
-/// radii of the first one: enough for a film crossed at up to ~70° from its normal.
-pub(super) const WINDOW: f32 = 6.0;
-
 impl MlsSurface {
-    /// Collects into `cands` the support spheres the ray is inside somewhere in
-    /// `(from, t_max)`, entered within [`WINDOW`] support radii of the first one, and returns
-    /// that window's end. Every sphere entered before the window is visited (nodes are culled
-    /// only beyond the shrinking bound), so support intervals ending before it are complete,
-    /// and nothing covers the window's end itself once they all have ended.
-    pub(super) fn gather(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) -> f32 {
+    /// Collects into `cands` every support sphere the ray is inside somewhere in
+    /// `(from, t_max)`, in the order of the BVH's near-first traversal (a leaf's spheres in
+    /// slot order). The whole ray at once: gathering only the spheres entered within a window
+    /// of 6 support radii beyond the first one, and traversing again for the rest when no
+    /// crossing lay in it (a bubble's back wall, a transmitted branch), cost more on the real
+    /// frames (docs/benchmarks.md); the pictures are the same either way.
+    pub(super) fn gather_all(&self, ray: &Ray, from: f32, t_max: f32, cands: &mut Vec<Cand>) {
         cands.clear();
-        let mut window = t_max;
         let r4 = Ray4::new(ray);
         self.bvh
-            .closest_leaves(ray, from, t_max, |first, count, bound| {
+            .closest_leaves(ray, from, t_max, |first, count, _| {
                 let end = first + count;
                 for s in (first..end).step_by(4) {
                     let lanes = (end - s).min(4) as usize;
-                    let (ta, tb, mut m) = self.clip4(&r4, s, lanes, from, t_max);
-                    // In slot order, as the bound shrinks.
+                    let c = self.clip4(&r4, s, lanes, from, t_max);
+                    let mut m = c.mask;
+                    if m == 0 {
+                        continue;
+                    }
+                    // 1/h² and the particle radius h/support, as `cand` computes them.
+                    let inv_h2 = Vec4::ONE / (c.h * c.h);
+                    let r = c.h / Vec4::splat(self.params.support);
+                    // In slot order.
                     while m != 0 {
                         let i = m.trailing_zeros() as usize;
                         m &= m - 1;
-                        if ta[i] <= *bound {
-                            let slot = s + i as u32;
-                            let e = ta[i] + WINDOW * self.particles[slot as usize].h;
-                            window = window.min(e);
-                            *bound = bound.min(e);
-                            cands.push(self.cand_on(ray, slot, ta[i], tb[i]));
-                        }
+                        let chord = Chord {
+                            ta: c.ta[i],
+                            tb: c.tb[i],
+                            b: c.b[i],
+                            k2: c.k2[i],
+                            inv_h2: inv_h2[i],
+                            r: r[i],
+                        };
+                        cands.push(self.cand_chord(ray, s + i as u32, chord));
                     }
                 }
             });
-        cands.retain(|c| c.ta <= window);
-        window
     }
 
     /// Where the ray is inside each of the support spheres of slots `s .. s + lanes` (at most
-    /// four) within `(t_min, t_max)`: entries, exits and the mask of the lanes it is inside
-    /// somewhere (lane `i` of the mask: the scalar `clip` of that sphere, bit for bit).
+    /// four) within `(t_min, t_max)` (lane `i` of the mask: the scalar `clip` of that sphere, bit
+    /// for bit), with the chords `cand_on` needs.
     #[inline(always)]
-    fn clip4(&self, r: &Ray4, s: u32, lanes: usize, t_min: f32, t_max: f32) -> (Vec4, Vec4, u32) {
+    fn clip4(&self, r: &Ray4, s: u32, lanes: usize, t_min: f32, t_max: f32) -> Clip4 {
         let q = |k: usize| {
             let p = &self.particles[s as usize + k.min(lanes - 1)];
             Vec4::new(p.p.x, p.p.y, p.p.z, p.h)
         };
         let c = Mat4::from_cols(q(0), q(1), q(2), q(3)).transpose();
         // The operations of `sphere_roots`, in its order.
-        let (t0, t1, real) = r.sphere_roots4(&c);
+        let roots = r.sphere_roots4(&c);
+        let (t0, t1) = (roots.t0, roots.t1);
         let lower = t0.cmple(t1);
         let (lo, hi) = (Vec4::select(lower, t0, t1), Vec4::select(lower, t1, t0));
         // `clip`: (max(t0, t_min), min(t1, t_max)) if not empty.
         let ta = Vec4::select(lo.cmpgt(Vec4::splat(t_min)), lo, Vec4::splat(t_min));
         let tb = Vec4::select(hi.cmplt(Vec4::splat(t_max)), hi, Vec4::splat(t_max));
-        let mask = (real & ta.cmplt(tb)).bitmask() & lane_mask(lanes);
-        (ta, tb, mask)
+        let mask = (roots.real & ta.cmplt(tb)).bitmask() & lane_mask(lanes);
+        Clip4 {
+            ta,
+            tb,
+            mask,
+            b: roots.b,
+            k2: roots.disc,
+            h: c.w_axis,
+        }
     }
+}
+
+/// Four support spheres clipped to a ray ([`MlsSurface::clip4`]), lane `i` sphere `i`.
+struct Clip4 {
+    /// Entries, clipped to the query.
+    ta: Vec4,
+    /// Exits, clipped to the query.
+    tb: Vec4,
+    /// The lanes the ray is inside somewhere in the query.
+    mask: u32,
+    /// Where the ray passes closest to the centre (`Cand::b`).
+    b: Vec4,
+    /// h² − e² (`Cand::k2`).
+    k2: Vec4,
+    /// Support radii.
+    h: Vec4,
 }
 
 #[cfg(test)]
@@ -97,7 +124,8 @@ mod tests {
             let (t_min, t_max) = if k % 3 == 0 { (0.0, 100.0) } else { (4.0, 5.0) };
             let first = (k % 7) as u32;
             let lanes = (p.len() - first as usize).min(4);
-            let (ta, tb, mask) = m.clip4(&Ray4::new(&ray), first, lanes, t_min, t_max);
+            let c = m.clip4(&Ray4::new(&ray), first, lanes, t_min, t_max);
+            let (ta, tb, mask) = (c.ta, c.tb, c.mask);
             for i in 0..4 {
                 let q = &m.particles[first as usize + i.min(lanes - 1)];
                 let want = (i < lanes)

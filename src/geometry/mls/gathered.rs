@@ -13,21 +13,18 @@ thread_local! {
             cands: Vec::new(),
             key: None,
             from: 0.0,
-            window: 0.0,
         })
     };
 }
 
 /// The support spheres gathered by the last query on this thread.
 pub(super) struct Gathered {
-    /// Spheres entered before `window`, clipped to `(from, t_max)`.
+    /// Every sphere the ray is inside somewhere in `(from, t_max)`, clipped to it.
     pub cands: Vec<Cand>,
     /// The surface and ray they were gathered for.
     pub key: Option<QueryKey>,
     /// Start of the query they were gathered (or last clipped) for.
     pub from: f32,
-    /// Every sphere the ray enters before this is in `cands`.
-    pub window: f32,
 }
 
 /// A surface (by [`MlsSurface`](super::MlsSurface)'s id) and a ray and `t_max`, bit for bit.

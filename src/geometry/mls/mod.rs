@@ -15,14 +15,13 @@
 //!   then blends one sheet's particles at a time, so the walls run into their junctions instead
 //!   of cancelling there (the `sheets` module).
 //! * **Rays** (Adamson & Alexa 2003, "Ray tracing point set surfaces"): the surface lies inside
-//!   the union of the support spheres. A near-first BVH query collects the spheres the ray
-//!   crosses within a few support radii of the first one (more only if needed); they are
-//!   merged into intervals of the ray. f is a weighted mean of the distances to the particles'
-//!   tangent planes, each linear along the ray, so in each interval f can vanish only in the
-//!   band where covering particles' planes disagree in sign (the `band` module; a few
-//!   hundredths of a spacing for a smooth film): the approach to a film and the way out of it
-//!   cost no evaluation of f. The band is marched with steps of 0.9|f| (f is distance-like)
-//!   bounded to 0.05–1 particle radii, up to its end (f's value there bounds nothing: where the
+//!   the union of the support spheres. One BVH traversal collects every sphere the ray
+//!   crosses; they are merged into intervals of the ray. f is a weighted mean of the distances
+//!   to the particles' tangent planes, each linear along the ray, so in each interval f can
+//!   vanish only in the band where covering particles' planes disagree in sign (the `band`
+//!   module; a few hundredths of a spacing for a smooth film): the approach to a film and the
+//!   way out of it cost no evaluation of f. The band is marched with steps of 0.9|f| (f is
+//!   distance-like) bounded to 0.05–1 particle radii, up to its end (f's value there bounds nothing: where the
 //!   weight fades, beside another wall, f may jump), a sign change is refined by bracketed Illinois regula
 //!   falsi to 10⁻³ radii, and a local minimum of |f| between samples is checked for a grazing
 //!   double crossing (so grazing rays do not tunnel).

@@ -85,19 +85,13 @@ impl MlsSurface {
     }
 
     /// [`MlsSurface::march_all`] for each sheet among `cands` on its own, the nearest crossing
-    /// of any; `Err(start)` as there when a sheet's interval runs past `complete`, unless a
-    /// crossing before that start was found. One sheet: `march_all` itself.
-    pub(super) fn march_sheets(
-        &self,
-        ray: &Ray,
-        cands: &mut [Cand],
-        complete: f32,
-    ) -> Result<Option<SurfaceHit>, f32> {
+    /// of any. One sheet: `march_all` itself.
+    pub(super) fn march_sheets(&self, ray: &Ray, cands: &mut [Cand]) -> Option<SurfaceHit> {
         let inf = f32::INFINITY;
         // One sheet along the ray (the common case) needs no split.
         let first = cands.first().map_or(0, |c| self.sheet(c.slot));
         if self.sheets.is_empty() || cands.iter().all(|c| self.sheet(c.slot) == first) {
-            return self.march_all(ray, cands, complete, inf);
+            return self.march_all(ray, cands, inf);
         }
         let mut labels: Vec<u32> = cands.iter().map(|c| self.sheet(c.slot)).collect();
         labels.sort_unstable();
@@ -105,23 +99,19 @@ impl MlsSurface {
         // In order once, so each sheet's share is in order too.
         sort_by_entry(cands);
         SHEET_CANDS.with_borrow_mut(|own| {
-            let (mut best, mut incomplete): (Option<SurfaceHit>, Option<f32>) = (None, None);
+            let mut best: Option<SurfaceHit> = None;
             for s in labels {
                 own.clear();
                 own.extend(cands.iter().filter(|c| self.sheet(c.slot) == s));
                 // Intervals starting past the nearest crossing so far cannot hold a nearer one.
                 let stop = best.map_or(inf, |b| b.t);
-                match self.march_all(ray, own, complete, stop) {
-                    Ok(Some(h)) if best.is_none_or(|b| h.t < b.t) => best = Some(h),
-                    Err(start) => incomplete = Some(incomplete.map_or(start, |e| e.min(start))),
-                    _ => {}
+                if let Some(h) = self.march_all(ray, own, stop)
+                    && best.is_none_or(|b| h.t < b.t)
+                {
+                    best = Some(h);
                 }
             }
-            match (best, incomplete) {
-                (Some(h), Some(start)) if h.t < start => Ok(Some(h)),
-                (_, Some(start)) => Err(start),
-                (h, None) => Ok(h),
-            }
+            best
         })
     }
 }

@@ -3,11 +3,9 @@
 
 use super::MlsSurface;
 use super::band;
-use super::field::{self, Cand};
+use super::field::{self, Cand, Chord};
 use super::gathered::{GATHERED, QueryKey, sort_by_entry};
-use crate::geometry::primitives::sphere_roots;
 use crate::geometry::{Ray, SurfaceHit};
-use glam::Vec3;
 
 /// Smallest march step, particle radii (near the surface, where |f| is small).
 const MIN_STEP: f32 = 0.05;
@@ -29,55 +27,36 @@ impl MlsSurface {
     /// The first crossing of the surface with `t_min < t < t_max`. `t_exit` is the far end of the
     /// final bracket (at most 10⁻³ radii beyond `t`), so a ray continued from
     /// `t_exit + eps` never finds the same crossing again. Cost: one near-first BVH traversal
-    /// collecting the support spheres the ray crosses within `WINDOW` support radii of the
-    /// first one (all of them only when the first crossing lies beyond; none when the query
+    /// collecting every support sphere the ray crosses in `(t_min, t_max)` (none when the query
     /// continues the previous one on this thread along the same ray, whose spheres are kept),
-    /// then per support interval O(spheres) to bound where the tangent planes allow a crossing
-    /// (see the `band` module) and ~3–6 evaluations of f inside that band, each over the
-    /// spheres covering that point.
+    /// then per support interval up to the crossing O(spheres) to bound where the tangent
+    /// planes allow a crossing (see the `band` module) and ~3–6 evaluations of f inside that
+    /// band, each over the spheres covering that point.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
         GATHERED.with_borrow_mut(|g| {
             let key = QueryKey::new(self.id, ray, t_max);
-            let mut from = t_min;
-            let mut reuse = g.key == Some(key) && t_min >= g.from && t_min < g.window;
-            loop {
-                if reuse {
-                    // The same ray further on: the spheres it is still inside or enters before
-                    // the window are exactly the kept ones that end beyond `from`.
-                    g.cands.retain_mut(|c| {
-                        c.ta = c.ta.max(from);
-                        c.ta < c.tb
-                    });
-                    g.from = from;
-                    reuse = false;
-                } else {
-                    g.window = self.gather(ray, from, t_max, &mut g.cands);
-                    (g.key, g.from) = (Some(key), from);
-                }
-                match self.march_sheets(ray, &mut g.cands, g.window) {
-                    Ok(Some(hit)) => return Some(hit),
-                    Ok(None) if g.window < t_max && g.window > from => from = g.window,
-                    Ok(None) => return None,
-                    Err(start) => {
-                        // An interval runs on past the window: collect everything from its start.
-                        g.cands.clear();
-                        self.bvh.visit_segment(ray, start, t_max, |s| {
-                            g.cands.extend(self.clipped(ray, s, start, t_max));
-                        });
-                        (g.from, g.window) = (start, t_max);
-                        return self.march_sheets(ray, &mut g.cands, t_max).ok().flatten();
-                    }
-                }
+            if g.key == Some(key) && t_min >= g.from {
+                // The same ray further on: the spheres it is still inside or enters later are
+                // exactly the kept ones that end beyond `t_min`.
+                g.cands.retain_mut(|c| {
+                    c.ta = c.ta.max(t_min);
+                    c.ta < c.tb
+                });
+            } else {
+                self.gather_all(ray, t_min, t_max, &mut g.cands);
+                g.key = Some(key);
             }
+            g.from = t_min;
+            self.march_sheets(ray, &mut g.cands)
         })
     }
 
     /// The candidate record of the sphere in `slot` if the ray is inside it somewhere in
-    /// `(t_min, t_max)`.
-    #[inline(always)]
+    /// `(t_min, t_max)` (the scalar form of the gathering, for tests).
+    #[cfg(test)]
     fn clipped(&self, ray: &Ray, slot: u32, t_min: f32, t_max: f32) -> Option<Cand> {
         let q = &self.particles[slot as usize];
         let (ta, tb) = clip(ray, q.p, q.h, t_min, t_max)?;
@@ -85,30 +64,50 @@ impl MlsSurface {
     }
 
     /// The candidate record of the sphere in `slot`, which the ray is inside for `ta..=tb`.
-    #[inline(always)]
-    pub(super) fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
+    #[cfg(test)]
+    fn cand_on(&self, ray: &Ray, slot: u32, ta: f32, tb: f32) -> Cand {
         let q = &self.particles[slot as usize];
-        let mut c = self.cand(slot, ta, tb);
-        (c.g0, c.g1) = (q.n.dot(ray.origin - q.p), q.n.dot(ray.dir));
         // The chord as `sphere_roots` computes it: b = d·(p − o), k2 = h² − |perpendicular|².
         let f = ray.origin - q.p;
-        c.b = -f.dot(ray.dir);
-        c.k2 = q.h * q.h - (f + c.b * ray.dir).length_squared();
-        c
+        let b = -f.dot(ray.dir);
+        let chord = Chord {
+            ta,
+            tb,
+            b,
+            k2: q.h * q.h - (f + b * ray.dir).length_squared(),
+            inv_h2: 1.0 / (q.h * q.h),
+            r: q.h / self.params.support,
+        };
+        self.cand_chord(ray, slot, chord)
+    }
+
+    /// The candidate record of the sphere in `slot` from its chord along the ray, computed
+    /// already (by `cand_on`, or four at a time by the gathering).
+    #[inline(always)]
+    pub(super) fn cand_chord(&self, ray: &Ray, slot: u32, c: Chord) -> Cand {
+        let q = &self.particles[slot as usize];
+        Cand {
+            p: q.p,
+            inv_h2: c.inv_h2,
+            n: q.n,
+            thickness: q.thickness,
+            ta: c.ta,
+            tb: c.tb,
+            slot,
+            r: c.r,
+            g0: q.n.dot(ray.origin - q.p),
+            g1: q.n.dot(ray.dir),
+            b: c.b,
+            k2: c.k2,
+        }
     }
 
     /// Sorts `cands` and marches the union of their support intervals, one connected piece at a
     /// time, returning the first valid crossing; inside each piece only the band where the
-    /// tangent planes allow a crossing is marched. Only intervals ending by `complete` are known
-    /// to hold all their spheres: reaching one that does not gives `Err(its start)`. Intervals
-    /// starting beyond `stop` (a crossing is already known there) are not marched.
-    pub(super) fn march_all(
-        &self,
-        ray: &Ray,
-        cands: &mut [Cand],
-        complete: f32,
-        stop: f32,
-    ) -> Result<Option<SurfaceHit>, f32> {
+    /// tangent planes allow a crossing is marched. `cands` holds every sphere along the part of
+    /// the ray queried, so each interval is complete. Intervals starting beyond `stop` (a
+    /// crossing is already known there) are not marched.
+    pub(super) fn march_all(&self, ray: &Ray, cands: &mut [Cand], stop: f32) -> Option<SurfaceHit> {
         sort_by_entry(cands);
         let mut i = 0;
         while i < cands.len() {
@@ -122,9 +121,6 @@ impl MlsSurface {
                 r = r.min(cands[j].r);
                 j += 1;
             }
-            if s1 > complete {
-                return Err(s0);
-            }
             let piece = &cands[i..j];
             let tol = tolerance(ray, s1, r);
             if let Some((u, v)) = band::sign_band(piece, s0, s1, tol) {
@@ -134,12 +130,12 @@ impl MlsSurface {
                 let last = piece.partition_point(|c| c.ta <= v);
                 let first = piece[..last].iter().position(|c| c.tb >= u).unwrap_or(last);
                 if let Some(hit) = self.march(ray, &piece[first..last], u, v, r, tol) {
-                    return Ok(Some(hit));
+                    return Some(hit);
                 }
             }
             i = j;
         }
-        Ok(None)
+        None
     }
 
     /// The first valid crossing in `[s0, s1]` (part of a support interval covered by `cands`,
@@ -292,9 +288,9 @@ impl MlsSurface {
 }
 
 /// Where the ray is inside the sphere (`centre`, `radius`) within `(t_min, t_max)`, if anywhere.
-#[inline(always)]
-fn clip(ray: &Ray, centre: Vec3, radius: f32, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
-    let (t0, t1) = sphere_roots(ray, centre, radius)?;
+#[cfg(test)]
+fn clip(ray: &Ray, centre: glam::Vec3, radius: f32, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
+    let (t0, t1) = crate::geometry::primitives::sphere_roots(ray, centre, radius)?;
     let (ta, tb) = (t0.max(t_min), t1.min(t_max));
     (ta < tb).then_some((ta, tb))
 }
