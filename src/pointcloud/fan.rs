@@ -178,8 +178,13 @@ pub fn fan(
             (need, need, to_3d(m, reach, u, v), need, 0.0)
         }
         None => {
-            let shingle = shingle_overlap(i, (positions, normals), open, far, &s.row);
             let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
+            // The growth is at most `far`: a disk already that large needs none (most do).
+            let shingle = if r >= need + far {
+                0.0
+            } else {
+                shingle_overlap(i, (positions, normals), open, far, &s.row)
+            };
             // Only a particle the plain disk would trim looks for the cut (most never do).
             let inner = if most < r.max(need) {
                 inner_cut(hull, reach)
