@@ -124,7 +124,11 @@ impl DiskGeometry {
                 clips.len()
             )));
         }
-        let cut = |c: &[Vec4; 2]| c.iter().any(|h| h.w.is_finite() && h.is_finite());
+        // A half-plane with a zero normal keeps every point: no cut.
+        let cut = |c: &[Vec4; 2]| {
+            c.iter()
+                .any(|h| h.w.is_finite() && h.is_finite() && h.truncate() != Vec3::ZERO)
+        };
         self.clips.clear();
         self.clip_slot.clear();
         if clips.iter().any(cut) {

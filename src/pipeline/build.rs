@@ -164,7 +164,8 @@ pub(super) fn film_geometry(
 ///   (without areas, on the MELP foam with its walls merged into one sheet, the larger corner
 ///   supports left pixels whose field holds a crossing the march skips: `tests/pinholes_real.rs`);
 /// - a particle one row in (an inner cut, [`is_inner_cut`]) keeps the plain disk's radius, its
-///   cut's nearer offset, as a particle the fit did not cut keeps its radius;
+///   cut's nearer offset, as a particle the fit did not cut keeps its radius; so does a disk
+///   grown past its cell for its neighbours' tilted planes (`pointcloud::clip::grown_from`);
 /// - neither is ever smaller than its own area: the fit trims a rolled rim's or a torn
 ///   fragment's particles well below it, and the supports of so sparse a sampling then weigh
 ///   less than the intact film's threshold where the particles' areas hold film

@@ -12,7 +12,7 @@ use super::prepared::Note;
 use crate::Result;
 use crate::io::CloudPart;
 use crate::pointcloud::PointCloud;
-use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
+use crate::pointcloud::clip::{EdgeClip, cuts};
 use crate::pointcloud::knn::{KnnTable, PointIndex};
 use crate::pointcloud::stats::median_nearest;
 use glam::Vec3;
@@ -40,8 +40,9 @@ pub struct Piece<'a> {
     pub positions: &'a [Vec3],
     /// Unit normals, one a particle (sign ignored); empty: the part joins nothing.
     pub normals: &'a [Vec3],
-    /// The fit's cuts, one a particle ([`NO_CLIP`] inside the film); empty: not fitted, so
-    /// no edge is known and the part joins nothing.
+    /// The fit's cuts, one a particle (`NO_CLIP` inside the film, or a disk's growth past its
+    /// cell, `grown_from`: see `pointcloud::clip`); empty: not fitted, so no edge is known and
+    /// the part joins nothing.
     pub clips: &'a [EdgeClip],
     /// The part's median nearest-neighbour distance (scene units).
     pub spacing: f32,
@@ -50,8 +51,7 @@ pub struct Piece<'a> {
 impl Piece<'_> {
     /// Whether particle `i` is on an open edge of its part.
     fn on_edge(&self, i: usize) -> bool {
-        self.normals.len() == self.positions.len()
-            && self.clips.get(i).is_some_and(|c| *c != NO_CLIP)
+        self.normals.len() == self.positions.len() && self.clips.get(i).is_some_and(cuts)
     }
 }
 
@@ -221,6 +221,7 @@ fn contacts(pieces: &[Piece]) -> Vec<((usize, usize), usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pointcloud::clip::NO_CLIP;
     use glam::Vec4;
 
     /// A flat grid of `w`×`h` particles at spacing 1 starting at x = `x0` in the plane

@@ -126,6 +126,25 @@ pub fn inner_cut(hull: &[Vec2], reach: f32) -> Option<([(Vec2, f32); 2], f32)> {
     Some(([first, second], most))
 }
 
+/// No cut (both normals zero: every point kept) for a disk the fit grew past its cell, for
+/// neighbours whose planes lie apart from its own (`super::fan::shingle_overlap`), recording
+/// in one offset the radius `flat` it has without that growth. The disks cut nothing with it
+/// ([`cuts`]); the MLS surface, whose supports blend across such neighbours, reads it as an
+/// inner cut ([`is_inner_cut`]) and keeps its nearer offset, `flat`, as its radius.
+pub fn grown_from(flat: f32) -> EdgeClip {
+    [
+        Vec4::new(0.0, 0.0, 0.0, f32::INFINITY),
+        Vec4::new(0.0, 0.0, 0.0, flat),
+    ]
+}
+
+/// Whether `clip` removes any part of a disk: a cut with a half-plane of non-zero normal and
+/// finite offset (not [`NO_CLIP`], not [`grown_from`]).
+pub fn cuts(clip: &EdgeClip) -> bool {
+    clip.iter()
+        .any(|h| h.w.is_finite() && h.is_finite() && h.truncate() != Vec3::ZERO)
+}
+
 /// Whether `clip` is an inner cut ([`inner_cut`]: a particle inside its neighbours' hull, cut
 /// at its distances to the two nearest hull edges plus the reach, which [`inner_cut`] keeps
 /// apart) rather than an edge cut ([`edge_cut`], [`to_3d`]: a particle on the hull, both lines

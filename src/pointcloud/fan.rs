@@ -49,6 +49,10 @@ pub enum Fit {
         /// at the two nearest hull edges ([`super::clip::inner_cut`]), drawn only where the
         /// disk grows past `most` (to cover its cell beside a torn rim, see [`super::gaps`]).
         cut_most: f32,
+        /// How much further than `need` a disk grows (within `most`), for neighbours whose
+        /// planes lie apart from its own where their cells meet ([`shingle_overlap`]; 0 on an
+        /// edge): the disks' alone, not the MLS surface's.
+        shingle: f32,
     },
     /// No sheet neighbours: the distance to the nearest particle (∞ for none).
     Isolated(f32),
@@ -64,6 +68,7 @@ impl Fit {
         clip: NO_CLIP,
         strand: false,
         cut_most: f32::INFINITY,
+        shingle: 0.0,
     };
 
     /// A particle in a strand (its neighbours in a line): kept within `reach`, an edge.
@@ -76,6 +81,7 @@ impl Fit {
             clip: NO_CLIP,
             strand: true,
             cut_most: reach,
+            shingle: 0.0,
         }
     }
 }
@@ -165,14 +171,20 @@ pub fn fan(
     clip_to_hull_into(hull, &mut s.cell);
     let far = farthest(&s.cell.poly);
     let rim = rim_midpoints(near, hull);
-    let (need, most, clip, cut_most) = match cut {
+    let (need, most, clip, cut_most, shingle) = match cut {
         Some((m, corner)) => {
             let (u, v) = nrm.any_orthonormal_pair();
             let need = GAP_MARGIN * far.max(rim).max(corner);
-            (need, need, to_3d(m, reach, u, v), need)
+            (need, need, to_3d(m, reach, u, v), need, 0.0)
         }
         None => {
             let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
+            // The growth is at most `far`: a disk already that large needs none (most do).
+            let shingle = if r >= need + far {
+                0.0
+            } else {
+                shingle_overlap(i, (positions, normals), open, far, &s.row)
+            };
             // Only a particle the plain disk would trim looks for the cut (most never do).
             let inner = if most < r.max(need) {
                 inner_cut(hull, reach)
@@ -183,13 +195,14 @@ pub fn fan(
                 Some((c, cut_most)) if cut_most > most => {
                     let (u, v) = nrm.any_orthonormal_pair();
                     let clip = c.map(|(m, k)| (m.x * u + m.y * v).extend(k));
-                    (need, most, clip, cut_most)
+                    (need, most, clip, cut_most, shingle)
                 }
-                _ => (need, most, NO_CLIP, most),
+                _ => (need, most, NO_CLIP, most, shingle),
             }
         }
     };
-    let trims = most < r.max(need);
+    // The growth past the cell is trimmed to `most` as well (a wider look may move it).
+    let trims = most < r.max(need + shingle);
     Fit::Sheet {
         need,
         most,
@@ -198,5 +211,47 @@ pub fn fan(
         clip,
         strand: false,
         cut_most,
+        shingle,
     }
+}
+
+/// Tangent of the most grazing ray (to the film's normal) that finds no slit between two
+/// neighbouring disks whose planes lie apart where their cells meet.
+pub const GRAZING_TAN: f32 = 4.0;
+
+/// Nearest neighbours whose planes [`shingle_overlap`] compares with a particle's (the first
+/// look's, `super::gaps::FAN_NEIGHBOURS`).
+const SHINGLE_NEIGHBOURS: usize = 12;
+
+/// How far past its cell particle i's disk must reach so that a ray at [`GRAZING_TAN`] finds no
+/// slit between it and a neighbour whose plane lies apart from i's where their cells meet:
+/// half the planes' separation at the midpoint times [`GRAZING_TAN`], the largest over the sheet
+/// neighbours among its [`SHINGLE_NEIGHBOURS`] nearest (within `open` along i's plane) whose
+/// bisector passes within `far` of i, and at most `far`.
+fn shingle_overlap(
+    i: usize,
+    (positions, normals): (&[Vec3], &[Vec3]),
+    open: f32,
+    far: f32,
+    row: &[(u32, f32)],
+) -> f32 {
+    let (p, n) = (positions[i], normals[i]);
+    let mut most = 0.0f32;
+    // The nearest alone, so a second look among more neighbours finds the same.
+    for &(j, _) in row.iter().take(SHINGLE_NEIGHBOURS) {
+        let (q, nj) = (positions[j as usize], normals[j as usize]);
+        let off = q - p;
+        let along = (off - off.dot(n) * n).length();
+        if super::cell::off_sheet(n, nj, off, along, FAN_SLOPE)
+            || along >= open
+            || along > 2.0 * far
+        {
+            continue;
+        }
+        let m = 0.5 * off;
+        let nj = if nj.dot(n) < 0.0 { -nj } else { nj };
+        let gap = n.dot(m) - nj.dot(m - off);
+        most = most.max(gap.abs());
+    }
+    (0.5 * GRAZING_TAN * most).min(far)
 }

@@ -54,9 +54,9 @@ use super::adrift::adrift_flags;
 pub use super::area::{
     AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
 };
-use super::clip::{EdgeClip, NO_CLIP};
+use super::clip::{EdgeClip, NO_CLIP, grown_from};
 use super::estimate::median_positive;
-pub use super::fan::{EDGE_REACH, GAP_MARGIN, LONG_EDGE, OPEN_FRACTION, SPACING_RANK};
+pub use super::fan::{EDGE_REACH, GAP_MARGIN, GRAZING_TAN, LONG_EDGE, OPEN_FRACTION, SPACING_RANK};
 use super::fan::{FanScratch, Fit, fan};
 use super::knn::{KnnTable, PointIndex};
 use super::looks::{Cloud, refit_where, second_looks};
@@ -281,11 +281,11 @@ pub(super) fn apply(
                 clip,
                 strand,
                 cut_most,
+                shingle,
                 ..
             } => {
                 report.edge += usize::from(edge);
                 let floor = if strand { own.unwrap_or(0.0) } else { 0.0 };
-                let wanted = r.max(need.min(cap));
                 // One row in from an open edge (`cut_most` > `most`): trimmed to `most` as a
                 // plain disk, it covers its cell (`need`) up to `cut_most` with its cut drawn
                 // (else crevices open beside the rim), as an edge particle does. A cut splat
@@ -296,14 +296,24 @@ pub(super) fn apply(
                 } else {
                     AREA_OVERLAP
                 };
-                let plain = bounded(wanted.min(most).max(floor), plain_growth);
+                let plain =
+                    |need: f32| bounded(r.max(need.min(cap)).min(most).max(floor), plain_growth);
+                let flat = plain(need);
                 let cut = bounded(need.min(cap).min(cut_most), AREA_OVERLAP);
-                if inner && cut > plain {
+                if inner && cut > flat {
                     clips[i] = clip;
                     cut
                 } else {
                     clips[i] = if inner { NO_CLIP } else { clip };
-                    plain
+                    // Grown past its cell for its neighbours' planes: the disk alone (the
+                    // MLS surface keeps `flat`, see [`grown_from`]).
+                    let grown = plain(need + shingle);
+                    if grown > flat && clips[i] == NO_CLIP {
+                        clips[i] = grown_from(flat);
+                        grown
+                    } else {
+                        flat
+                    }
                 }
             }
             Fit::Isolated(nearest) => bounded(
