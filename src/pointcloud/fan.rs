@@ -178,27 +178,14 @@ pub fn fan(
             (need, need, to_3d(m, reach, u, v), need, 0.0)
         }
         None => {
-            let (need, most) = (GAP_MARGIN * far.max(rim), depth + reach);
-            // The growth is at most `far`: a disk already that large needs none (most do).
-            let shingle = if r >= need + far {
-                0.0
-            } else {
-                shingle_overlap(i, (positions, normals), open, far, &s.row)
+            let sizes = Interior {
+                need: GAP_MARGIN * far.max(rim),
+                most: depth + reach,
+                far,
+                reach,
+                open,
             };
-            // Only a particle the plain disk would trim looks for the cut (most never do).
-            let inner = if most < r.max(need) {
-                inner_cut(hull, reach)
-            } else {
-                None
-            };
-            match inner {
-                Some((c, cut_most)) if cut_most > most => {
-                    let (u, v) = nrm.any_orthonormal_pair();
-                    let clip = c.map(|(m, k)| (m.x * u + m.y * v).extend(k));
-                    (need, most, clip, cut_most, shingle)
-                }
-                _ => (need, most, NO_CLIP, most, shingle),
-            }
+            interior(i, (positions, normals), r, nrm, hull, sizes, &s.row)
         }
     };
     // The growth past the cell is trimmed to `most` as well (a wider look may move it).
@@ -212,6 +199,55 @@ pub fn fan(
         strand: false,
         cut_most,
         shingle,
+    }
+}
+
+/// What [`interior`] needs of a particle's fan that no edge cuts.
+struct Interior {
+    /// The radius its cell needs.
+    need: f32,
+    /// The most it may reach (its depth in the hull plus the edge reach).
+    most: f32,
+    /// The farthest corner of its cell cut to the hull.
+    far: f32,
+    /// Half a spacing (the reach past the hull).
+    reach: f32,
+    /// The fan's open distance.
+    open: f32,
+}
+
+/// The sizes of a particle no edge cuts: (need, most, clip, cut_most, shingle) — the growth
+/// past its cell where neighbours' planes lie apart, and the cut one row in from an edge
+/// where the plain disk would trim.
+fn interior(
+    i: usize,
+    pn: (&[Vec3], &[Vec3]),
+    r: f32,
+    nrm: Vec3,
+    hull: &[Vec2],
+    z: Interior,
+    row: &[(u32, f32)],
+) -> (f32, f32, EdgeClip, f32, f32) {
+    let (need, most) = (z.need, z.most);
+    // The growth is at most `far`: a disk already that large needs none (most do).
+    let shingle = if r >= need + z.far {
+        0.0
+    } else {
+        shingle_overlap(i, pn, z.open, z.far, row)
+    };
+    // Only a particle the plain disk would trim looks for the cut (most never do).
+    let inner = if most < r.max(need) {
+        inner_cut(hull, z.reach)
+    } else {
+        None
+    };
+    match inner {
+        Some((c, cut_most)) if cut_most > most => {
+            let (u, v) = nrm.any_orthonormal_pair();
+            let clip = c.map(|(m, k)| (m.x * u + m.y * v).extend(k));
+            (need, most, clip, cut_most, shingle)
+        }
+        _ => (need, most, NO_CLIP, most, shingle),
     }
 }
 
