@@ -3,75 +3,35 @@
 //! of more than 32,768 particles) it chooses the fit on every real frame the fit changes, and
 //! keeps the radii of a clean sphere, where the fit changes nothing.
 
-use std::path::{Path, PathBuf};
+mod fit_support;
+use fit_support::{films, for_fit, sample};
 
-use filmsplat::io::PartKind;
-use filmsplat::pipeline::load_parts;
+use filmsplat::pointcloud::PointCloud;
 use filmsplat::pointcloud::clip::NO_CLIP;
-use filmsplat::pointcloud::dedupe::drop_coincident;
-use filmsplat::pointcloud::gaps::{
-    FAN_NEIGHBOURS, GapReport, bound_by_area, fit_radii_clipped, own_radii,
-};
-use filmsplat::pointcloud::knn::{KnnTable, PointIndex};
+use filmsplat::pointcloud::gaps::{GapReport, fit_radii_clipped};
 use filmsplat::pointcloud::screen::{SCREEN_STRIDE, Screen, screen_fit_strided};
-use filmsplat::pointcloud::{EstimateOptions, PointCloud, fill_missing};
-use filmsplat::samples::{SampleKind, SampleParams};
-use filmsplat::scene::SceneDesc;
-
-fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(rel)
-}
-
-fn films(input: &str) -> Vec<PointCloud> {
-    let mut desc = SceneDesc::default();
-    desc.input.cloud = Some(data(input));
-    let parts = load_parts(&desc, Path::new("")).unwrap();
-    parts
-        .into_iter()
-        .filter(|p| p.kind == PartKind::Film)
-        .map(|p| p.cloud)
-        .collect()
-}
-
-fn sample(name: &str, particles: usize) -> PointCloud {
-    let p = SampleParams {
-        particles,
-        ..SampleParams::default()
-    };
-    SampleKind::from_name(name).unwrap().generate(&p)
-}
 
 /// The particles the whole fit changes on a film cloud prepared as `render` prepares it
 /// (radius bits or edge cut), its report, and the screen's verdict at each stride.
-fn fit_and_screen(
-    mut cloud: PointCloud,
-    strides: &[usize],
-) -> (Vec<usize>, GapReport, Vec<Screen>) {
-    drop_coincident(&mut cloud);
-    fill_missing(&mut cloud, &EstimateOptions::default());
-    let own = own_radii(&cloud);
-    let mut radii = cloud.radius.clone().expect("radii estimated");
-    bound_by_area(&mut radii, &own);
-    let normals = cloud.normals.clone().expect("normals estimated");
-    let index = PointIndex::build(&cloud.positions);
-    let table = KnnTable::build_with(&index, &cloud.positions, FAN_NEIGHBOURS);
+fn fit_and_screen(cloud: PointCloud, strides: &[usize]) -> (Vec<usize>, GapReport, Vec<Screen>) {
+    let f = for_fit(cloud);
+    let (cloud, radii, own, normals) = (&f.cloud, &f.radii, &f.own, &f.normals);
+    let (index, table) = (&f.index, &f.table);
     let mut fitted = radii.clone();
     let (report, clips) = fit_radii_clipped(
-        &index,
+        index,
         &cloud.positions,
-        &normals,
+        normals,
         &mut fitted,
-        Some(&table),
-        &own,
+        Some(table),
+        own,
     );
     let changed = (0..radii.len())
         .filter(|&i| fitted[i].to_bits() != radii[i].to_bits() || clips[i] != NO_CLIP)
         .collect();
     let screens = strides
         .iter()
-        .map(|&s| screen_fit_strided(&index, (&cloud.positions, &normals), &radii, &own, s))
+        .map(|&s| screen_fit_strided(index, (&cloud.positions, normals), radii, own, s))
         .collect();
     (changed, report, screens)
 }

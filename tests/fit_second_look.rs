@@ -6,24 +6,11 @@
 //! ([`SecondLook::WhereItCanChange`]: 24 neighbours first) fits the same on films, not on the
 //! liquid cloud, where more than 24 particles lie within a fan's reach.
 
-use std::path::{Path, PathBuf};
+mod fit_support;
+use fit_support::{films, for_fit, sample};
 
-use filmsplat::io::PartKind;
-use filmsplat::pipeline::load_parts;
-use filmsplat::pointcloud::dedupe::drop_coincident;
-use filmsplat::pointcloud::gaps::{
-    FAN_NEIGHBOURS, GapReport, SecondLook, bound_by_area, fit_radii_looking, own_radii,
-};
-use filmsplat::pointcloud::knn::{KnnTable, PointIndex};
-use filmsplat::pointcloud::{EstimateOptions, PointCloud, fill_missing};
-use filmsplat::samples::{SampleKind, SampleParams};
-use filmsplat::scene::SceneDesc;
-
-fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(rel)
-}
+use filmsplat::pointcloud::PointCloud;
+use filmsplat::pointcloud::gaps::{GapReport, SecondLook, fit_radii_looking};
 
 /// The fitted radii, edge cuts and report of one rule.
 type Fitted = (
@@ -34,24 +21,19 @@ type Fitted = (
 
 /// The three rules on one film cloud, prepared as `render` prepares it; returns the whole
 /// rows' fit, the middle look's and the default's.
-fn three_rules(mut cloud: PointCloud) -> [Fitted; 3] {
-    drop_coincident(&mut cloud);
-    fill_missing(&mut cloud, &EstimateOptions::default());
-    let own = own_radii(&cloud);
-    let mut radii = cloud.radius.clone().expect("radii estimated");
-    bound_by_area(&mut radii, &own);
-    let normals = cloud.normals.clone().expect("normals estimated");
-    let index = PointIndex::build(&cloud.positions);
-    let table = KnnTable::build_with(&index, &cloud.positions, FAN_NEIGHBOURS);
+fn three_rules(cloud: PointCloud) -> [Fitted; 3] {
+    let f = for_fit(cloud);
+    let (cloud, radii, own, normals) = (&f.cloud, &f.radii, &f.own, &f.normals);
+    let (index, table) = (&f.index, &f.table);
     let fit = |look| {
         let mut r = radii.clone();
         let (report, clips) = fit_radii_looking(
-            &index,
+            index,
             &cloud.positions,
-            &normals,
+            normals,
             &mut r,
-            Some(&table),
-            &own,
+            Some(table),
+            own,
             look,
         );
         (r, clips, report)
@@ -98,24 +80,9 @@ fn both_rules(cloud: PointCloud, label: &str) -> (GapReport, GapReport) {
 }
 
 fn film(input: &str) -> Vec<PointCloud> {
-    let mut desc = SceneDesc::default();
-    desc.input.cloud = Some(data(input));
-    let parts = load_parts(&desc, Path::new("")).unwrap();
-    let films: Vec<PointCloud> = parts
-        .into_iter()
-        .filter(|p| p.kind == PartKind::Film)
-        .map(|p| p.cloud)
-        .collect();
+    let films = films(input);
     assert!(!films.is_empty(), "{input}");
     films
-}
-
-fn sample(name: &str, particles: usize) -> PointCloud {
-    let p = SampleParams {
-        particles,
-        ..SampleParams::default()
-    };
-    SampleKind::from_name(name).unwrap().generate(&p)
 }
 
 #[test]
