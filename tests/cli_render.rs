@@ -699,3 +699,43 @@ fn info_and_render_say_whether_the_radii_are_fitted() {
     let (code, _, err) = filmsplat(&["render", &files[0], "--fit-radii", "sometimes"]);
     assert_eq!(code, 2, "{err}");
 }
+
+/// The screen judges a large cloud on every 32nd particle: a film whose other particles are too
+/// small to meet (here a cap of a 40,000-particle bubble, every particle but the sampled ones
+/// shrunk to 0.3 of its radius) keeps its radii, the render finds the pinholes, and says so —
+/// with `-q` too — naming the way out; `--fit-radii always` closes them, without the warning.
+#[test]
+fn pinholes_left_by_a_skipped_fit_are_warned_of() {
+    use filmsplat::samples::{SampleKind, SampleParams};
+    let p = SampleParams {
+        particles: 40_000,
+        ..SampleParams::default()
+    };
+    let mut cloud = SampleKind::from_name("bubble").unwrap().generate(&p);
+    let top = cloud.positions.iter().map(|x| x.y).fold(f32::MIN, f32::max);
+    let radii = cloud.radius.as_mut().unwrap();
+    for (i, (r, x)) in radii.iter_mut().zip(&cloud.positions).enumerate() {
+        if i % 32 != 0 && x.y > 0.5 * top {
+            *r *= 0.3;
+        }
+    }
+    let ply = tmp("screened-cap.ply");
+    filmsplat::io::write_ply(&ply, &cloud).unwrap();
+    let png = tmp("screened-cap.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", ply.to_str().unwrap(), "-o", png.to_str().unwrap()];
+        args.extend(["--size", "96x72", "--spp", "1", "-q", "--camera", "0,3,0.5"]);
+        args.extend(["--look-at", "0,0,0"]);
+        args.extend(extra);
+        let (code, _, err) = filmsplat(&args);
+        assert_eq!(code, 0, "{err}");
+        err
+    };
+    let err = render(&[]);
+    assert!(
+        err.contains("warning: pinholes at") && err.contains("--fit-radii always"),
+        "{err}"
+    );
+    let err = render(&["--fit-radii", "always"]);
+    assert!(!err.contains("warning: pinholes"), "{err}");
+}

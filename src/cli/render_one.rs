@@ -228,6 +228,9 @@ pub(super) fn render_prepared(
         }
         Target::Pixels => Some(pipeline::image_srgb8(&shot, &result)?),
     };
+    if let Some(warning) = screened_pinholes(prepared, &shot, &result) {
+        let _ = writeln!(out, "{warning}");
+    }
     if !a.quiet {
         let line = summary(
             prepared,
@@ -240,6 +243,31 @@ pub(super) fn render_prepared(
         let _ = writeln!(out, "{line}");
     }
     Ok(pixels)
+}
+
+/// Pinholes above [`SCREENED_PINHOLES`] % where the particles hold film.
+const SCREENED_PINHOLES: f64 = 0.02;
+
+/// A warning (shown with `-q` too) when the radius fit was skipped on a sample's word and the
+/// render then finds pinholes where the particles hold film: the sample missed what the fit
+/// would have closed.
+fn screened_pinholes(
+    prepared: &Prepared,
+    shot: &Shot,
+    result: &crate::render::RenderOutput,
+) -> Option<String> {
+    if !prepared.fit_screened {
+        return None;
+    }
+    let d = pipeline::pinholes::front_layer_of(prepared, shot, result)
+        .in_data
+        .ok()?;
+    (d.percent() > SCREENED_PINHOLES).then(|| {
+        format!(
+            "warning: pinholes at {:.3} % of the film's interior where the particles hold film, with the radius fit skipped because a sample of the particles needed none: --fit-radii always fits every particle",
+            d.percent()
+        )
+    })
 }
 
 /// The summary's pinhole figure: the renderer's pinholes (the front layer missing where the

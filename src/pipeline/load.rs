@@ -153,6 +153,9 @@ pub(super) struct Films {
     pub neighbours: Option<KnnTable>,
     /// Every film came with its radii (none were estimated from spacing).
     pub had_radius: bool,
+    /// Some film's radii were kept because a sample of its particles needed no fit (not
+    /// every particle was judged: `pointcloud::screen`).
+    pub screened: bool,
     /// Each particle's cut at the open edge it lies on (see `pointcloud::clip`), one per
     /// particle of `cloud`; empty when the radii were not fitted.
     pub clips: Vec<EdgeClip>,
@@ -224,6 +227,7 @@ fn assemble(ready: Vec<Ready>, notes: &mut Vec<Note>) -> Films {
         notes.extend(part.notes);
         let (cloud, clips) = (part.cloud, part.clips);
         out.had_radius &= part.had_radius;
+        out.screened |= part.screened;
         if !clips.is_empty() && out.clips.is_empty() {
             let before: usize = clouds.iter().map(PointCloud::len).sum();
             out.clips = vec![NO_CLIP; before];
@@ -303,7 +307,7 @@ fn complete(
         validate(&cloud).map_err(name)?;
     }
     let own = bound_by_own_area(&label, &mut cloud, notes);
-    let (table, clips) = fit(
+    let (table, clips, screened) = fit(
         &label,
         &mut cloud,
         film.fit_radii,
@@ -316,13 +320,15 @@ fn complete(
         table,
         had_radius,
         clips,
+        screened,
         notes: Vec::new(),
     })
 }
 
 /// Fits `cloud`'s radii to the sampling as `mode` says (see [`FitRadii`]), with the
 /// estimate's neighbour `index` and `table` if it built them; returns the table (the
-/// estimate's, or the fit's 12-neighbour one) and the edge cuts (empty: none).
+/// estimate's, or the fit's 12-neighbour one), the edge cuts (empty: none) and whether the
+/// radii were kept on a sample's word (not every particle judged).
 fn fit(
     label: &str,
     cloud: &mut PointCloud,
@@ -330,9 +336,9 @@ fn fit(
     (index, mut table): (Option<PointIndex>, Option<KnnTable>),
     own: &[f32],
     notes: &mut Vec<Note>,
-) -> (Option<KnnTable>, Vec<EdgeClip>) {
+) -> (Option<KnnTable>, Vec<EdgeClip>, bool) {
     let (Some(r), true) = (cloud.radius.as_mut(), mode.may_fit()) else {
-        return (table, Vec::new());
+        return (table, Vec::new(), false);
     };
     let index = index.unwrap_or_else(|| PointIndex::build(&cloud.positions));
     let normals = cloud.normals.as_deref().unwrap_or_default();
@@ -352,6 +358,7 @@ fn fit(
                 } else {
                     Vec::new()
                 },
+                screen.stride > 1,
             );
         }
     }
@@ -370,7 +377,7 @@ fn fit(
     let (fit, cut) = fit_radii_clipped(&index, &cloud.positions, normals, r, t, own);
     notes.push(Note::new(format!("{label}: {fit}")));
     trim_detached(label, r, own, table.as_ref(), notes);
-    (table, cut)
+    (table, cut, false)
 }
 
 /// No splat larger than the particle's own area allows, fitted or not ([`bound_by_area`]);

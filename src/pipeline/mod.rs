@@ -182,6 +182,7 @@ pub fn prepare_staged(
         output: config.output.path,
         attribute,
         film_data,
+        fit_screened: films.screened,
         particles: films.cloud.len(),
         droplets: n_droplets,
         load_time: loaded.load_time,

@@ -65,6 +65,8 @@ pub(super) struct Ready {
     pub had_radius: bool,
     /// The fit's cuts, one a particle (empty: not fitted).
     pub clips: Vec<EdgeClip>,
+    /// Its radii were kept on a sample's word (see `load::fit`).
+    pub screened: bool,
     /// What completing it said, in order.
     pub notes: Vec<Note>,
 }

@@ -41,6 +41,9 @@ pub struct Prepared {
     /// ([`super::pinholes::front_layer_of`]); `None` above
     /// [`super::film_data::FILM_DATA_CAP`] particles.
     pub film_data: Option<super::film_data::FilmData>,
+    /// Some film's radii were kept because a sample of its particles needed no fit: the
+    /// render warns if it then finds pinholes where the particles hold film.
+    pub fit_screened: bool,
     /// Number of film particles.
     pub particles: usize,
     /// Number of droplets (water spheres).
