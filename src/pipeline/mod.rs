@@ -153,14 +153,13 @@ pub fn prepare_staged(
     let aspect = scene_aspect(&config.view, width, height);
     let camera = config.camera.camera(&framing, aspect)?;
     let mut staging = studio::staging(&config.lights, props, framing.centre, tol.epsilon)?;
-    let n_droplets = droplets.len();
+    let (n_droplets, fit_screened) = (droplets.len(), films.screened);
     staging.droplets = droplets;
     staging.liquid = liquid;
     let moving = (kept.as_slice(), drops.as_slice(), liquid_index.as_slice());
     move_staging(&mut motion, moving, &staging, &mut notes)?;
     let shader = film_shader(&config);
-    // A turntable's frame: the light turns with the camera (turned once here, from the
-    // environment as prepared, for every render of the default shot).
+    // A turntable's frame: the light turns with the camera (once here, for the default shot).
     let turn_deg = desc.environment.turn_deg;
     let turned = (turn_deg != 0.0).then(|| (turn_deg, prepared::turned(&environment, turn_deg)));
     let shot = default_shot(&config, camera, turn_deg, progress);
@@ -182,7 +181,7 @@ pub fn prepare_staged(
         output: config.output.path,
         attribute,
         film_data,
-        fit_screened: films.screened,
+        fit_screened,
         particles: films.cloud.len(),
         droplets: n_droplets,
         load_time: loaded.load_time,
