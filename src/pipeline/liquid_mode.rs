@@ -36,26 +36,32 @@ impl FromStr for LiquidMode {
     }
 }
 
-/// The scene's choice of how rays find a liquid body's surface (`[input] liquid_field`:
-/// `"grid"`, the default, or `"exact"`, case-insensitive).
+impl FromStr for LiquidField {
+    type Err = Error;
+
+    /// Parses `"grid"` or `"exact"` (case-insensitive): `[input] liquid_field`,
+    /// `--liquid-field`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "grid" => Ok(LiquidField::Grid),
+            "exact" => Ok(LiquidField::Exact),
+            _ => Err(Error::invalid(format!(
+                "input.liquid_field: unknown value '{s}' (expected 'grid' or 'exact')"
+            ))),
+        }
+    }
+}
+
+/// The scene's choice of how rays find a liquid body's surface (`[input] liquid_field`,
+/// default grid).
 ///
 /// # Errors
 /// An unknown value.
 pub(super) fn field(desc: &SceneDesc) -> Result<LiquidField> {
-    match desc
-        .input
+    desc.input
         .liquid_field
         .as_deref()
-        .map(|s| s.trim().to_ascii_lowercase())
-    {
-        None => Ok(LiquidField::Grid),
-        Some(s) if s == "grid" => Ok(LiquidField::Grid),
-        Some(s) if s == "exact" => Ok(LiquidField::Exact),
-        Some(_) => Err(Error::invalid(format!(
-            "input.liquid_field: unknown value '{}' (expected 'grid' or 'exact')",
-            desc.input.liquid_field.as_deref().unwrap_or_default()
-        ))),
-    }
+        .map_or(Ok(LiquidField::Grid), str::parse)
 }
 
 /// The scene's liquid mode (`[input] liquid`, default auto).
