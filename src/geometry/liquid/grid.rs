@@ -63,6 +63,9 @@ impl Hasher for KeyHasher {
 
 type BrickMap = HashMap<IVec3, u32, BuildHasherDefault<KeyHasher>>;
 
+/// The brick a march looked up last: its coordinates and its index (`None`: no brick there).
+pub(super) type Last = Option<(IVec3, Option<u32>)>;
+
 /// φ on the nodes of the bricks the support spheres reach (see the module docs).
 #[derive(Clone, Debug, Default)]
 pub(super) struct FieldGrid {
@@ -171,7 +174,7 @@ impl FieldGrid {
     /// φ at `x`, interpolated trilinearly between the nodes of its cell; `last` remembers the
     /// brick looked up before (a march stays in one brick for several steps).
     #[inline]
-    pub fn phi(&self, x: Vec3, last: &mut Option<(IVec3, Option<u32>)>) -> f32 {
+    pub fn phi(&self, x: Vec3, last: &mut Last) -> f32 {
         let u = (x - self.origin) * self.inv_cell;
         let b = u * (1.0 / BRICK as f32);
         let key = IVec3::new(floor(b.x), floor(b.y), floor(b.z));
@@ -205,17 +208,18 @@ impl FieldGrid {
         lerp(lerp(x00, x10, f.y), lerp(x01, x11, f.y), f.z)
     }
 
-    /// Where the ray leaves the brick that holds `ray.at(t)`, if φ keeps one sign in it, the
-    /// sign `inside` says (a march may jump there: no crossing lies between).
+    /// Where the ray leaves the brick [`FieldGrid::phi`] last looked up (`last`; the march
+    /// keeps it at its current point), if φ keeps one sign in it, the sign `inside` says (a
+    /// march may jump there: no crossing lies between).
     #[inline]
-    pub fn exit_if_uniform(&self, ray: &Ray, t: f32, inside: bool) -> Option<f32> {
-        let side = BRICK as f32 * self.cell;
-        let b = (ray.at(t) - self.origin) / side;
-        let key = IVec3::new(floor(b.x), floor(b.y), floor(b.z));
-        let id = *self.bricks.get(&key)? as usize;
-        if self.sign[id] != if inside { -1 } else { 1 } {
+    pub fn exit_if_uniform(&self, ray: &Ray, last: Last, inside: bool) -> Option<f32> {
+        let (key, Some(id)) = last? else {
+            return None;
+        };
+        if self.sign[id as usize] != if inside { -1 } else { 1 } {
             return None;
         }
+        let side = BRICK as f32 * self.cell;
         let lo = self.origin + key.as_vec3() * side;
         let inv = safe_inv_dir(ray.dir);
         let t2 = (lo + Vec3::splat(side) - ray.origin) * inv;

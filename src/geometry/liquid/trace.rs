@@ -250,7 +250,9 @@ impl LiquidSurface {
                     }
                     let step = (STEP_OF_PHI * f.abs()).clamp(MIN_STEP * s, MAX_STEP * s);
                     // A brick of one sign is crossed in one step (just past its far face).
-                    let skip = g.exit_if_uniform(ray, t, f < 0.0).map(|e| e + MIN_STEP * s);
+                    let skip = g
+                        .exit_if_uniform(ray, last.get(), f < 0.0)
+                        .map(|e| e + MIN_STEP * s);
                     let tn = (t + step).max(skip.unwrap_or(t)).min(t1);
                     let fnext = phi(tn);
                     if (f < 0.0) != (fnext < 0.0) {
