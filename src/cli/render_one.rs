@@ -6,6 +6,7 @@ use super::render_args::RenderArgs;
 use super::render_scene::scene_from_args;
 use crate::image::Srgb8Image;
 use crate::pipeline;
+use crate::pipeline::pinholes::PinholeFigure;
 use crate::pipeline::{Prepared, Progress, Shot, memory};
 use crate::scene::SceneDesc;
 use crate::{Error, Result};
@@ -228,14 +229,16 @@ pub(super) fn render_prepared(
         }
         Target::Pixels => Some(pipeline::image_srgb8(&shot, &result)?),
     };
-    if let Some(warning) = screened_pinholes(prepared, &shot, &result) {
+    // The pinhole figure, once, for the warning after a skipped fit and the summary.
+    let figure = (prepared.fit_screened || !a.quiet)
+        .then(|| pipeline::pinholes::front_layer_of(prepared, &shot, &result));
+    if let Some(warning) = figure.and_then(|f| screened_pinholes(prepared, f)) {
         let _ = writeln!(out, "{warning}");
     }
-    if !a.quiet {
+    if let (false, Some(figure)) = (a.quiet, figure) {
         let line = summary(
             prepared,
-            &shot,
-            &result,
+            (&shot, &result, figure),
             render_time,
             fresh,
             &target.label(),
@@ -251,17 +254,11 @@ const SCREENED_PINHOLES: f64 = 0.02;
 /// A warning (shown with `-q` too) when the radius fit was skipped on a sample's word and the
 /// render then finds pinholes where the particles hold film: the sample missed what the fit
 /// would have closed.
-fn screened_pinholes(
-    prepared: &Prepared,
-    shot: &Shot,
-    result: &crate::render::RenderOutput,
-) -> Option<String> {
+fn screened_pinholes(prepared: &Prepared, figure: PinholeFigure) -> Option<String> {
     if !prepared.fit_screened {
         return None;
     }
-    let d = pipeline::pinholes::front_layer_of(prepared, shot, result)
-        .in_data
-        .ok()?;
+    let d = figure.in_data.ok()?;
     (d.percent() > SCREENED_PINHOLES).then(|| {
         format!(
             "warning: pinholes at {:.3} % of the film's interior where the particles hold film, with the radius fit skipped because a sample of the particles needed none: --fit-radii always fits every particle",
@@ -273,12 +270,7 @@ fn screened_pinholes(
 /// The summary's pinhole figure: the renderer's pinholes (the front layer missing where the
 /// particles hold film), with the share that counts the data's own gaps beside it; without the
 /// particles, the missing share of the interior and why.
-fn pinhole_figure(
-    prepared: &Prepared,
-    shot: &Shot,
-    result: &crate::render::RenderOutput,
-) -> String {
-    let f = pipeline::pinholes::front_layer_of(prepared, shot, result);
+fn pinhole_figure(f: PinholeFigure) -> String {
     match f.in_data {
         Ok(d) => format!(
             "pinholes at {:.3} % of the film's interior (front layer missing where the particles hold film; {:.3} % counting the gaps in the data)",
@@ -303,14 +295,13 @@ fn pinhole_figure(
 /// The summary line of a shaded render: counts, stage times, speed, the pinhole figure.
 fn summary(
     prepared: &Prepared,
-    shot: &Shot,
-    result: &crate::render::RenderOutput,
+    (shot, result, figure): (&Shot, &crate::render::RenderOutput, PinholeFigure),
     render_time: std::time::Duration,
     fresh: Fresh,
     wrote: &str,
 ) -> String {
     let s = &shot.settings;
-    let front = pinhole_figure(prepared, shot, result);
+    let front = pinhole_figure(figure);
     let stages = match fresh {
         Fresh::Prepared => format!(
             "load {:.3} s, estimate {:.3} s, build {:.3} s",
