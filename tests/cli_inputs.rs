@@ -137,3 +137,41 @@ fn attribute_views_colour_by_any_stored_attribute() {
     assert_eq!(code, 2);
     assert!(err.contains("MIN < MAX"), "{err}");
 }
+
+#[test]
+fn a_folder_of_numbered_particle_files_is_refused_with_the_sequence_that_renders_it() {
+    // MELP writes one VTK XML file per frame and set (e_/l_particles_0100.vtp, ...) into one
+    // folder: no frame folder, so `render` refuses it, naming what it holds and the pattern.
+    let d = folder("melp_run");
+    for (set, n) in [("e", 7), ("l", 7), ("l", 8)] {
+        let src = data(&format!("melp/bubble/{set}_particles_0100.vtp"));
+        std::fs::copy(src, d.join(format!("{set}_particles_{n:04}.vtp"))).unwrap();
+    }
+    let dir = d.to_str().unwrap();
+    let png = d.join("x.png");
+    let (code, out, err) = filmsplat(&["render", dir, "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty() && !png.exists());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let pattern = format!("{dir}/l_particles_{{:04}}.vtp");
+    assert!(
+        err.contains(dir) && err.contains("2 numbered particle files"),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!("'{pattern}' --frames 7..=8")),
+        "{err}"
+    );
+    // The sequence it names renders both Lagrangian frames.
+    let frames = format!("{dir}/f_{{}}.png");
+    let (code, _, err) = filmsplat(&[
+        "render", &pattern, "--frames", "7..=8", "-o", &frames, "--size", "32x24", "--spp", "1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(d.join("f_7.png").exists() && d.join("f_8.png").exists());
+    // A run's folder of numbered frame folders is named the same way.
+    let run = data("thin-film-sph/bursting_bubble");
+    let (code, _, err) = filmsplat(&["info", &run]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(&format!("'{run}/{{}}' --frames")), "{err}");
+}

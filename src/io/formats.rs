@@ -13,7 +13,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use super::{CloudFormat, CloudPart, ReadOptions, StoredAttribute, input};
-use super::{bgeo, csv, frame_folder, melp_folder, ply, pvd, snapshot, vtk, vtu};
+use super::{bgeo, csv, folder_hint, frame_folder, melp_folder, ply, pvd, snapshot, vtk, vtu};
 use crate::error::{Error, Result};
 use crate::pointcloud::PointCloud;
 
@@ -319,6 +319,23 @@ pub(crate) fn by_content(head: &[u8], path: &Path) -> Result<CloudFormat> {
     })
 }
 
+/// The message for a directory that is no frame folder, with what it holds if that is a
+/// numbered run of frame folders or particle files ([`folder_hint`]).
+fn not_a_frame_folder(path: &Path) -> String {
+    let base = "a directory that is no simulator frame folder (expected x_bin or tracker_points \
+                of the thin-film SPH code, x.bin of its snapshots, or MELP's l_tracker_points_0)";
+    let is_frame = |p: &Path| {
+        FORMATS
+            .iter()
+            .any(|f| matches!(f.recognise, Recognise::Folder(is) if is(p)))
+    };
+    let is_file = |p: &Path| by_extension(p).is_some() || p.extension().is_some_and(|e| e == "pvd");
+    match folder_hint::hint(path, is_frame, is_file) {
+        Some(h) => format!("{base}; {h}"),
+        None => base.to_string(),
+    }
+}
+
 /// Decides a file's format: a directory by the files it holds (a frame folder holds `x_bin`
 /// or `tracker_points`, a snapshot folder `x.bin`, a MELP folder `l_tracker_points_0`); a
 /// `.pvd` by its extension; another file by its first bytes (for gzip, the decompressed first
@@ -346,13 +363,7 @@ pub fn detect_format(path: &Path) -> Result<CloudFormat> {
                 .iter()
                 .find(|f| matches!(f.recognise, Recognise::Folder(is) if is(path)))
                 .map(|f| f.format)
-                .ok_or_else(|| {
-                    unknown(
-                        "a directory that is no simulator frame folder (expected x_bin or \
-                         tracker_points of the thin-film SPH code, x.bin of its snapshots, or \
-                         MELP's l_tracker_points_0)",
-                    )
-                });
+                .ok_or_else(|| unknown(&not_a_frame_folder(path)));
         }
         input::Kind::Stdin | input::Kind::Pipe => {
             return by_extension(path)

@@ -27,6 +27,7 @@
 pub mod bgeo;
 mod columns;
 pub mod csv;
+mod folder_hint;
 pub mod formats;
 pub mod frame_folder;
 pub mod input;
