@@ -14,9 +14,15 @@ use super::gathered::sort_by_entry;
 use crate::geometry::{Ray, SurfaceHit};
 use crate::{Error, Result};
 
+/// The candidates of one sheet along the current ray, and the sheets along it (label, where
+/// the ray first enters it).
+type SheetScratch = (Vec<Cand>, Vec<(u32, f32)>);
+
 thread_local! {
-    /// The candidates of one sheet along the current ray.
-    static SHEET_CANDS: RefCell<Vec<Cand>> = const { RefCell::new(Vec::new()) };
+    /// Scratch of [`MlsSurface::march_sheets`] (see [`SheetScratch`]).
+    static SHEET_CANDS: RefCell<SheetScratch> = const {
+        RefCell::new((Vec::new(), Vec::new()))
+    };
 }
 
 /// The most sheets a surface takes (labels are 0..MAX_SHEETS).
@@ -93,18 +99,30 @@ impl MlsSurface {
         if self.sheets.is_empty() || cands.iter().all(|c| self.sheet(c.slot) == first) {
             return self.march_all(ray, cands, inf);
         }
-        let mut labels: Vec<u32> = cands.iter().map(|c| self.sheet(c.slot)).collect();
-        labels.sort_unstable();
-        labels.dedup();
         // In order once, so each sheet's share is in order too.
         sort_by_entry(cands);
-        SHEET_CANDS.with_borrow_mut(|own| {
+        SHEET_CANDS.with_borrow_mut(|(own, labels)| {
+            // The sheets in the order the ray first enters them: a near sheet's crossing,
+            // found first, stops the farther sheets' marches at it (`stop`). In label order a
+            // far wall was often marched to its crossing before the near one was looked at.
+            // Each with where it is first entered.
+            labels.clear();
+            for c in cands.iter() {
+                let s = self.sheet(c.slot);
+                if !labels.iter().any(|l| l.0 == s) {
+                    labels.push((s, c.ta));
+                }
+            }
             let mut best: Option<SurfaceHit> = None;
-            for s in labels {
+            for &(s, entry) in labels.iter() {
+                // Intervals starting past the nearest crossing so far cannot hold a nearer one;
+                // this sheet's and every later one's start there.
+                let stop = best.map_or(inf, |b| b.t);
+                if entry > stop {
+                    break;
+                }
                 own.clear();
                 own.extend(cands.iter().filter(|c| self.sheet(c.slot) == s));
-                // Intervals starting past the nearest crossing so far cannot hold a nearer one.
-                let stop = best.map_or(inf, |b| b.t);
                 if let Some(h) = self.march_all(ray, own, stop)
                     && best.is_none_or(|b| h.t < b.t)
                 {
@@ -163,6 +181,76 @@ mod tests {
             }
         }
         misses
+    }
+
+    /// The nearest crossing over the sheets, each sheet's spheres marched to their first
+    /// crossing on their own (no order, no early stop), and the sheet it lies in; with the
+    /// sheet entered first along the ray.
+    fn nearest_of_each_sheet(m: &MlsSurface, ray: &Ray, t_min: f32) -> (Option<(f32, u32)>, u32) {
+        let mut cands = Vec::new();
+        m.gather_all(ray, t_min, f32::INFINITY, &mut cands);
+        sort_by_entry(&mut cands);
+        let first = cands.first().map_or(0, |c| m.sheet(c.slot));
+        let mut labels: Vec<u32> = cands.iter().map(|c| m.sheet(c.slot)).collect();
+        labels.sort_unstable();
+        labels.dedup();
+        let nearest = labels
+            .iter()
+            .filter_map(|&s| {
+                let mut own: Vec<Cand> = cands
+                    .iter()
+                    .filter(|c| m.sheet(c.slot) == s)
+                    .copied()
+                    .collect();
+                m.march_all(ray, &mut own, f32::INFINITY).map(|h| (h.t, s))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        (nearest, first)
+    }
+
+    /// Rays through the junction of three walls (labels in an order unrelated to where the
+    /// rays meet them), some starting part way along: the crossing found is bit for bit the
+    /// nearest of the sheets' own crossings, also where the sheet the ray enters first is not
+    /// the one it crosses first (those cases are counted, so an early stop there would fail).
+    #[test]
+    fn the_crossing_is_the_nearest_of_every_sheet() {
+        let s = 0.1f32;
+        let dirs: Vec<Vec3> = [90f32, 210.0, 330.0]
+            .iter()
+            .map(|a| Vec3::new(a.to_radians().cos(), a.to_radians().sin(), 0.0))
+            .collect();
+        let (mut p, mut n, mut label) = (Vec::new(), Vec::new(), Vec::new());
+        for (k, d) in dirs.iter().enumerate() {
+            for i in 0..12 {
+                for j in -10..=10 {
+                    p.push((i as f32 + 0.5) * s * *d + j as f32 * s * Vec3::Z);
+                    n.push(Vec3::Z.cross(*d));
+                    label.push([7, 2, 5][k]);
+                }
+            }
+        }
+        let mut m =
+            MlsSurface::build(&p, &n, &vec![0.6 * s; p.len()], &vec![400.0; p.len()]).unwrap();
+        m.set_sheets(&label).unwrap();
+        let mut rnd = crate::geometry::ray4::test_rng(0x5eed_0fa1);
+        let (mut hits, mut not_first) = (0, 0);
+        for k in 0..3000 {
+            let eye = Vec3::new(2.0 * rnd(), 2.0 * rnd(), 0.5 * rnd());
+            let target = 1.2 * Vec3::new(rnd(), rnd(), 0.0) + 0.5 * rnd() * Vec3::Z;
+            let ray = Ray::new(eye, target - eye);
+            let t_min = if k % 3 == 0 { 0.3 * rnd().abs() } else { 0.0 };
+            let (want, first) = nearest_of_each_sheet(&m, &ray, t_min);
+            let got = m
+                .intersect(&ray, t_min, f32::INFINITY)
+                .map(|h| h.t.to_bits());
+            assert_eq!(got, want.map(|w| w.0.to_bits()), "ray {k}");
+            hits += want.is_some() as usize;
+            not_first += want.is_some_and(|w| w.1 != first) as usize;
+        }
+        assert!(
+            hits > 1000 && not_first > 20,
+            "{hits} hits, {not_first} not in the first sheet"
+        );
     }
 
     #[test]
