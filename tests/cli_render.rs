@@ -110,7 +110,9 @@ fn real_sph_files_render() {
     // fit stopped splats at the edges of its sparse splashes; its MLS once the MLS supports at
     // open edges stayed within half a rim spacing: coverage 0.111 -> 0.103; and again, all
     // brighter with coverage and centroids unchanged, when the studio's dark ground shrank to
-    // the picture's frustum and the rims came to reflect the dome beside it).
+    // the picture's frustum and the rims came to reflect the dome beside it; the dam break's
+    // disks again when an inner cut's corner between its cut edges stopped bounding its
+    // radius: coverage 0.113 -> 0.116, green 0.068 -> 0.065).
     let recorded: [(&str, &str, Stats); 6] = [
         (
             "splishsplash_sphere_shell.ply",
@@ -130,7 +132,7 @@ fn real_sph_files_render() {
         (
             "double_dam_break_frame_26.ply",
             "disk",
-            (0.113, [0.496, 0.603], [0.1130, 0.0682, 0.0378]),
+            (0.116, [0.498, 0.609], [0.1097, 0.0651, 0.0385]),
         ),
         (
             "double_dam_break_frame_26.ply",

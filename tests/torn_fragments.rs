@@ -90,18 +90,24 @@ fn no_crevices_open_beside_a_torn_rim() {
     // disk trimmed to half a spacing past the nearest hull edge — crevices beside the rim, 1.0–
     // 1.5 × the particles' own radius from them. Cut at the two nearest hull edges instead and
     // grown to cover its cell (`pointcloud::clip::inner_cut`): 6 pixels (0.014 %).
-    let desc = preview("thin-film-sph/bursting_bubble/73");
-    let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
-    let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
-    let f = in_data(&desc, &span);
-    eprintln!(
-        "bursting 73: {} of {} px, {:.4} %",
-        f.missing,
-        f.interior,
-        f.percent()
-    );
-    assert!(f.interior > 30_000, "{} px", f.interior);
-    assert!(f.percent() <= 0.02, "{:.4} %", f.percent());
+    // Bursting frame 46 (film only, 2,364 particles), same render: 0.022 %, a line of slits
+    // along the rolled rim seen at 70° to its normals, beside particles 0.2 spacings inside
+    // their hull whose cut was trimmed to 0.4 spacings by a neighbour at the corner of the two
+    // cut edges (the cut lines bound that corner themselves): 0.008 %.
+    for (frame, least) in [("73", 30_000), ("46", 30_000)] {
+        let desc = preview(&format!("thin-film-sph/bursting_bubble/{frame}"));
+        let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
+        let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
+        let f = in_data(&desc, &span);
+        eprintln!(
+            "bursting {frame}: {} of {} px, {:.4} %",
+            f.missing,
+            f.interior,
+            f.percent()
+        );
+        assert!(f.interior > least, "{frame}: {} px", f.interior);
+        assert!(f.percent() <= 0.02, "{frame}: {:.4} %", f.percent());
+    }
 }
 
 #[test]

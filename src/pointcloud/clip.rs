@@ -92,32 +92,50 @@ pub fn reach_and_cut(
 /// two hull edges nearest to it (their outward unit normals and offsets from the particle),
 /// and the largest radius the cut disk may have — `reach` past every other edge, and
 /// √(|v|² + reach²) for every hull vertex v (a point past the corner at v lies at least that
-/// far from the particle when it is more than `reach` from v). A particle one row in from a
-/// torn edge, trimmed to `reach` past it, may then be round on the film side and straight at
-/// the edge. `None` for a hull of fewer than three vertices or the origin on it.
+/// far from the particle when it is more than `reach` from v). Where the two edges meet at a
+/// vertex at an angle of 90° or more, the cut lines bound the corner there themselves (they
+/// meet within √2 × `reach` of it, as an edge particle's meet near its own vertex,
+/// [`edge_cut`]), so that vertex bounds no radius: a neighbour a fraction of a spacing away
+/// on the nearest edge no longer trims the disk to that fraction. A particle one row in from a
+/// torn edge, trimmed to `reach` past it, may then be round on the film side and
+/// straight at the edge. `None` for a hull of fewer than three vertices or the origin on it.
 pub fn inner_cut(hull: &[Vec2], reach: f32) -> Option<([(Vec2, f32); 2], f32)> {
-    if hull.len() < 3 || hull.contains(&Vec2::ZERO) {
+    let n = hull.len();
+    if n < 3 || hull.contains(&Vec2::ZERO) {
         return None;
     }
-    // Each edge's outward normal and the particle's distance to its line.
-    let mut edges: Vec<(Vec2, f32)> = (0..hull.len())
+    // Each edge's outward normal, the particle's distance to its line, and its first vertex.
+    let mut edges: Vec<(Vec2, f32, usize)> = (0..n)
         .filter_map(|k| {
-            let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
+            let (a, b) = (hull[k], hull[(k + 1) % n]);
             let e = b - a;
             let m = Vec2::new(e.y, -e.x).try_normalize()?;
-            Some((m, a.dot(m).max(0.0)))
+            Some((m, a.dot(m).max(0.0), k))
         })
         .collect();
     if edges.len() < 3 {
         return None;
     }
     edges.sort_by(|a, b| a.1.total_cmp(&b.1));
+    // The vertex the two nearest edges share, if they are neighbours on the hull.
+    let (k0, k1) = (edges[0].2, edges[1].2);
+    let shared = [
+        ((k0 + 1) % n == k1).then_some(k1),
+        ((k1 + 1) % n == k0).then_some(k0),
+    ]
+    .into_iter()
+    .flatten()
+    .next();
+    // cos(φ/2), φ the angle between the two edges' normals: the lines meet `reach` / cos(φ/2)
+    // past the vertex; at most √2 × `reach` (φ ≤ 90°), else the vertex bounds the radius.
+    let meet = (0.5 * (1.0 + edges[0].0.dot(edges[1].0))).max(0.0).sqrt();
+    let shared = shared.filter(|_| meet >= std::f32::consts::FRAC_1_SQRT_2 - 1e-6);
     let past_edges = edges[2..].iter().map(|e| e.1 + reach);
-    let past_corners = hull
-        .iter()
-        .map(|v| (v.length_squared() + reach * reach).sqrt());
+    let past_corners = (0..n)
+        .filter(|k| Some(*k) != shared)
+        .map(|k| (hull[k].length_squared() + reach * reach).sqrt());
     let most = past_edges.chain(past_corners).fold(f32::INFINITY, f32::min);
-    let [mut first, mut second] = [edges[0], edges[1]].map(|(m, d)| (m, d + reach));
+    let [mut first, mut second] = [edges[0], edges[1]].map(|(m, d, _)| (m, d + reach));
     // The offsets of an inner cut differ (see [`is_inner_cut`]): where the particle lies as far
     // from both edges, the nearer line is moved in by one unit in the last place.
     if first.1 == second.1 {
@@ -237,9 +255,44 @@ mod tests {
     }
 
     #[test]
+    fn a_near_corner_between_the_two_cut_edges_bounds_no_radius() {
+        use std::f32::consts::SQRT_2;
+        // Bursting frame 46: a particle 0.2 spacings inside the hull, whose nearest hull edges
+        // meet at a neighbour 0.36 spacings away, was trimmed to √(0.36² + reach²) ≈ 0.47 by
+        // that corner, though its cut lines bound the corner as an edge particle's do: slits
+        // beside it where a grazing ray passed its rolled rim. Now the farther corners and
+        // edges bound it, and no kept point lies further than `reach` past the hull (√2 ×
+        // `reach` beside that corner).
+        let near = [
+            Vec2::new(-0.2, 0.3),
+            Vec2::new(-0.4, -2.0),
+            Vec2::new(2.0, -2.0),
+            Vec2::new(2.0, 2.5),
+        ];
+        let hull = super::super::cell::hull_with_origin(&near);
+        let reach = 0.3;
+        let (cut, most) = inner_cut(&hull, reach).unwrap();
+        assert!(most > 2.0, "{most}");
+        let hull_vertex = near[0];
+        let kept = |x: Vec2| cut.iter().all(|(m, k)| x.dot(*m) <= *k);
+        for a in 0..360 {
+            for s in 1..=60 {
+                let a = a as f32 * std::f32::consts::TAU / 360.0;
+                let x = s as f32 / 60.0 * most * Vec2::new(a.cos(), a.sin());
+                let past = outside(&hull, x);
+                let corner = (x - hull_vertex).length() <= SQRT_2 * reach;
+                assert!(!kept(x) || past <= reach * 1.0001 || corner, "{x}");
+                assert!(!kept(x) || past <= SQRT_2 * reach * 1.0001, "{x}");
+            }
+        }
+    }
+
+    #[test]
     fn an_inner_cut_keeps_the_hull_and_reaches_no_further_past_it() {
+        use std::f32::consts::SQRT_2;
         // Brute force over random hulls around a particle inside them: every point of the cut
-        // disk lies within `reach` of the hull, and the cut keeps the whole hull.
+        // disk lies within `reach` of the hull (√2 × `reach` at the corner the cut lines meet
+        // past), and the cut keeps the whole hull.
         let mut seed = 0x2545_f491u32;
         let mut rnd = || {
             seed ^= seed << 13;
@@ -268,9 +321,13 @@ mod tests {
                     let (a, s) = (a as f32 * std::f32::consts::TAU / 90.0, s as f32 / 30.0);
                     let x = s * most * Vec2::new(a.cos(), a.sin());
                     if kept(x) {
+                        // Within `reach` of the hull; within √2 × `reach` beside a vertex the
+                        // two cut lines meet past.
                         let past = outside(&hull, x);
+                        let corner = hull.iter().any(|v| (x - *v).length() <= SQRT_2 * reach);
+                        let most_past = if corner { SQRT_2 * reach } else { reach };
                         assert!(
-                            past <= reach * 1.0001,
+                            past <= most_past * 1.0001,
                             "{past} > {reach} at {x} of {hull:?}"
                         );
                     }

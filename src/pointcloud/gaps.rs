@@ -287,9 +287,10 @@ pub(super) fn apply(
                 report.edge += usize::from(edge);
                 let floor = if strand { own.unwrap_or(0.0) } else { 0.0 };
                 // One row in from an open edge (`cut_most` > `most`): trimmed to `most` as a
-                // plain disk, it covers its cell (`need`) up to `cut_most` with its cut drawn
-                // (else crevices open beside the rim), as an edge particle does. A cut splat
-                // grows no further than a splat keeps unfitted.
+                // plain disk, it covers its cell (`need`, and the growth past it for its
+                // neighbours' planes, `shingle`) up to `cut_most` with its cut drawn (else
+                // crevices open beside the rim), as an edge particle does. A cut splat grows no
+                // further than a splat keeps unfitted.
                 let inner = cut_most > most;
                 let plain_growth = if clip == NO_CLIP || inner {
                     AREA_GROWTH
@@ -299,7 +300,7 @@ pub(super) fn apply(
                 let plain =
                     |need: f32| bounded(r.max(need.min(cap)).min(most).max(floor), plain_growth);
                 let flat = plain(need);
-                let cut = bounded(need.min(cap).min(cut_most), AREA_OVERLAP);
+                let cut = bounded((need + shingle).min(cap).min(cut_most), AREA_OVERLAP);
                 if inner && cut > flat {
                     clips[i] = clip;
                     cut
