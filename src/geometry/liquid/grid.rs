@@ -121,6 +121,11 @@ impl FieldGrid {
         }
     }
 
+    /// Bounds of the bricks.
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
     /// Heap bytes held.
     pub fn memory_bytes(&self) -> usize {
         let n = self.keys.len();
