@@ -5,37 +5,21 @@
 //! reach each point of a body (see `docs/benchmarks.md`, "The liquid surface against MLS").
 //!
 //! The node values are the exact field's ([`super::field`], the same weights; at the
-//! [`MIN_WEIGHT`] cut-off made continuous, see [`CUT_OFF_SLOPE`]), so the grid's surface is the
-//! exact one up to the interpolation:
-//! within a few hundredths of a spacing on a body's face (`tests` below hold it to the exact
+//! weight cut-off made continuous, see `sample`), so the grid's surface is the exact one up to
+//! the interpolation: within a few hundredths of a spacing on a body's face (`tests` below hold it to the exact
 //! march's crossings). Where no support sphere reaches, there is no brick and φ is +R.
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::{IVec3, Vec3};
-use rayon::prelude::*;
 
-use super::field::MIN_WEIGHT;
+use super::sample::{self, BRICK, Lattice, NODES, Params, SIDE, floor};
 use crate::geometry::aabb::{safe_inv_dir, slab};
 use crate::geometry::{Aabb, Bvh, Ray};
 
 /// Grid cells per liquid spacing.
 pub const CELLS_PER_SPACING: f32 = 3.0;
-
-/// The exact field is +R wherever the weight is below [`MIN_WEIGHT`], a jump the
-/// interpolation would smear over a cell. The nodes hold ψ = max(φ, k s (MIN_WEIGHT − Σw))
-/// instead: negative exactly where the exact field is, and continuous across the cut-off. k
-/// makes that term change about a spacing per spacing where a lone particle's weight crosses
-/// the cut-off (dΣw/dd ≈ 0.42 a spacing there), so the march's steps stay safe.
-const CUT_OFF_SLOPE: f32 = 2.4;
-
-/// Cells along a brick's side.
-const BRICK: i32 = 4;
-/// Nodes along a brick's side (its faces' nodes are stored in both bricks that share them).
-const SIDE: usize = BRICK as usize + 1;
-/// Nodes of a brick.
-const NODES: usize = SIDE * SIDE * SIDE;
 
 /// A hasher for brick coordinates (three `i32`s): multiply and rotate, no more is needed.
 #[derive(Default, Clone, Copy)]
@@ -90,49 +74,21 @@ pub(super) struct FieldGrid {
     outside: f32,
 }
 
-/// What the field needs of the liquid: particle centres and the three lengths.
-pub(super) struct Params<'a> {
-    pub points: &'a [Vec3],
-    pub spacing: f32,
-    pub radius: f32,
-    pub support: f32,
-}
-
 impl FieldGrid {
     /// Samples the field of `p` (see the module docs). Cost: per particle, the nodes within its
-    /// support (≈ 4/3 π (R / cell)³ ≈ 1,300), parallel over bricks.
+    /// support (≈ 4/3 π (R / cell)³ ≈ 1,300), parallel over tiles of bricks (the `sample`
+    /// module).
     pub fn build(p: &Params) -> FieldGrid {
         let cell = p.spacing / CELLS_PER_SPACING;
         let reach = Vec3::splat(p.support);
         let origin = p.points.iter().fold(Vec3::INFINITY, |a, x| a.min(*x)) - reach;
         let side = BRICK as f32 * cell;
-        let brick_of = |x: Vec3| ((x - origin) / side).floor().as_ivec3();
-        let (mut bricks, mut lists) = (BrickMap::default(), Vec::<Vec<u32>>::new());
-        for (i, &x) in p.points.iter().enumerate() {
-            let (a, b) = (brick_of(x - reach), brick_of(x + reach));
-            for z in a.z..=b.z {
-                for y in a.y..=b.y {
-                    for k in (a.x..=b.x).map(|bx| IVec3::new(bx, y, z)) {
-                        let lo = origin + k.as_vec3() * side;
-                        let d = (lo - x).max(x - lo - Vec3::splat(side)).max(Vec3::ZERO);
-                        if d.length_squared() < p.support * p.support {
-                            let id = *bricks.entry(k).or_insert_with(|| {
-                                lists.push(Vec::new());
-                                (lists.len() - 1) as u32
-                            });
-                            lists[id as usize].push(i as u32);
-                        }
-                    }
-                }
-            }
+        let (mut bricks, mut keys, mut phi) = (BrickMap::default(), Vec::new(), Vec::new());
+        for (k, v) in sample::bricks(p, Lattice { origin, cell }) {
+            bricks.insert(k, keys.len() as u32);
+            keys.push(k);
+            phi.push(v);
         }
-        let mut keys = vec![IVec3::ZERO; lists.len()];
-        bricks.iter().for_each(|(k, id)| keys[*id as usize] = *k);
-        let phi: Vec<[f32; NODES]> = keys
-            .par_iter()
-            .zip(lists.par_iter())
-            .map(|(k, list)| brick_values(p, origin + k.as_vec3() * side, cell, list))
-            .collect();
         let sign = phi
             .iter()
             .map(|v| {
@@ -163,6 +119,11 @@ impl FieldGrid {
             bvh: Bvh::build(&boxes),
             outside: p.support,
         }
+    }
+
+    /// Bounds of the bricks.
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
     }
 
     /// Heap bytes held.
@@ -255,64 +216,6 @@ impl FieldGrid {
         }
         runs.truncate(merged);
     }
-}
-
-/// ⌊v⌋ as an integer (without libm's `floorf`, which this target does not inline); `v` finite
-/// and within `i32`'s range, else saturated.
-#[inline(always)]
-fn floor(v: f32) -> i32 {
-    let i = v as i32;
-    if (i as f32) > v { i - 1 } else { i }
-}
-
-/// φ at the nodes of the brick whose lowest corner is `lo`, from the particles `list` whose
-/// supports reach it.
-fn brick_values(p: &Params, lo: Vec3, cell: f32, list: &[u32]) -> [f32; NODES] {
-    let (mut w, mut s) = ([0.0f32; NODES], [Vec3::ZERO; NODES]);
-    let inv_r2 = 1.0 / (p.support * p.support);
-    let top = IVec3::splat(BRICK);
-    let r2 = p.support * p.support;
-    for &i in list {
-        let x = p.points[i as usize];
-        let a = ((x - p.support - lo) / cell)
-            .ceil()
-            .as_ivec3()
-            .max(IVec3::ZERO);
-        let b = ((x + p.support - lo) / cell).floor().as_ivec3().min(top);
-        for nz in a.z..=b.z {
-            let dz = x.z - (lo.z + nz as f32 * cell);
-            for ny in a.y..=b.y {
-                let dy = x.y - (lo.y + ny as f32 * cell);
-                let off = dy * dy + dz * dz;
-                if off >= r2 {
-                    continue;
-                }
-                // The row's nodes within the support: |dx| < √(R² − dy² − dz²).
-                let half = (r2 - off).sqrt();
-                let x0 = (-floor((lo.x - x.x + half) / cell)).max(a.x);
-                let x1 = floor((x.x + half - lo.x) / cell).min(b.x);
-                let row = nz as usize * SIDE * SIDE + ny as usize * SIDE;
-                for nx in x0..=x1 {
-                    let dx = x.x - (lo.x + nx as f32 * cell);
-                    let q = 1.0 - (dx * dx + off) * inv_r2;
-                    if q > 0.0 {
-                        let n = row + nx as usize;
-                        let wi = q * q * q;
-                        w[n] += wi;
-                        s[n] += wi * Vec3::new(dx, dy, dz);
-                    }
-                }
-            }
-        }
-    }
-    std::array::from_fn(|n| {
-        if w[n] <= 0.0 {
-            p.support
-        } else {
-            let phi = (s[n] / w[n]).length() - p.radius;
-            phi.max(CUT_OFF_SLOPE * p.spacing * (MIN_WEIGHT - w[n]))
-        }
-    })
 }
 
 #[cfg(test)]

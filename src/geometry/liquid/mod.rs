@@ -21,6 +21,7 @@
 
 mod field;
 mod grid;
+mod sample;
 mod trace;
 
 use glam::Vec3;
@@ -31,7 +32,8 @@ use super::{Aabb, Bvh};
 use crate::{Error, Result};
 use field::Sums;
 pub use grid::CELLS_PER_SPACING;
-use grid::{FieldGrid, Params};
+use grid::FieldGrid;
+use sample::Params;
 
 /// Kernel radius of the field in liquid spacings (see the module docs for why 2.25).
 pub const KERNEL_SPACINGS: f32 = 2.25;
