@@ -139,29 +139,39 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    /// Three walls meeting at 120° along the z axis (a foam's Plateau border), each sampled up
-    /// to half a spacing from the junction, with normals oriented per wall (the first one
-    /// flipped, as one bubble's set would have it), and rays aimed at points of the walls near
-    /// the junction from around it: the rays that miss every wall.
-    fn junction_misses(sheets: bool) -> usize {
-        let s = 0.1f32;
+    /// Three walls of spacing `s` meeting at 120° along the z axis (a foam's Plateau border),
+    /// each sampled up to half a spacing from the junction, wall k labelled `labels[k]`, the
+    /// first wall's normals flipped if `flip_first` (as one bubble's set would have it): the
+    /// surface (sheets not set), its labels and the walls' directions.
+    fn three_walls(
+        s: f32,
+        labels: [u32; 3],
+        flip_first: bool,
+    ) -> (MlsSurface, Vec<u32>, Vec<Vec3>) {
         let dirs: Vec<Vec3> = [90f32, 210.0, 330.0]
             .iter()
             .map(|a| Vec3::new(a.to_radians().cos(), a.to_radians().sin(), 0.0))
             .collect();
         let (mut p, mut n, mut label) = (Vec::new(), Vec::new(), Vec::new());
         for (k, d) in dirs.iter().enumerate() {
-            let normal = Vec3::Z.cross(*d) * if k == 0 { -1.0 } else { 1.0 };
+            let normal = Vec3::Z.cross(*d) * if k == 0 && flip_first { -1.0 } else { 1.0 };
             for i in 0..12 {
                 for j in -10..=10 {
                     p.push((i as f32 + 0.5) * s * *d + j as f32 * s * Vec3::Z);
                     n.push(normal);
-                    label.push(k as u32);
+                    label.push(labels[k]);
                 }
             }
         }
-        let mut m =
-            MlsSurface::build(&p, &n, &vec![0.6 * s; p.len()], &vec![400.0; p.len()]).unwrap();
+        let m = MlsSurface::build(&p, &n, &vec![0.6 * s; p.len()], &vec![400.0; p.len()]).unwrap();
+        (m, label, dirs)
+    }
+
+    /// Rays aimed from around the junction of [`three_walls`] (normals oriented per wall) at
+    /// points of the walls near it: the rays that miss every wall.
+    fn junction_misses(sheets: bool) -> usize {
+        let s = 0.1f32;
+        let (mut m, label, dirs) = three_walls(s, [0, 1, 2], true);
         if sheets {
             m.set_sheets(&label).unwrap();
             assert_eq!(m.sheet_count(), 3);
@@ -214,23 +224,7 @@ mod tests {
     /// the one it crosses first (those cases are counted, so an early stop there would fail).
     #[test]
     fn the_crossing_is_the_nearest_of_every_sheet() {
-        let s = 0.1f32;
-        let dirs: Vec<Vec3> = [90f32, 210.0, 330.0]
-            .iter()
-            .map(|a| Vec3::new(a.to_radians().cos(), a.to_radians().sin(), 0.0))
-            .collect();
-        let (mut p, mut n, mut label) = (Vec::new(), Vec::new(), Vec::new());
-        for (k, d) in dirs.iter().enumerate() {
-            for i in 0..12 {
-                for j in -10..=10 {
-                    p.push((i as f32 + 0.5) * s * *d + j as f32 * s * Vec3::Z);
-                    n.push(Vec3::Z.cross(*d));
-                    label.push([7, 2, 5][k]);
-                }
-            }
-        }
-        let mut m =
-            MlsSurface::build(&p, &n, &vec![0.6 * s; p.len()], &vec![400.0; p.len()]).unwrap();
+        let (mut m, label, _) = three_walls(0.1, [7, 2, 5], false);
         m.set_sheets(&label).unwrap();
         let mut rnd = crate::geometry::ray4::test_rng(0x5eed_0fa1);
         let (mut hits, mut not_first) = (0, 0);
