@@ -7,6 +7,7 @@
 //! Brute force: random rays at grazing angles aimed at the film's interior must all hit a disk.
 
 use filmsplat::geometry::{DiskGeometry, Ray};
+use filmsplat::pointcloud::cut::clips;
 use filmsplat::pointcloud::gaps::{FAN_NEIGHBOURS, GRAZING_TAN, fit_radii_clipped};
 use filmsplat::pointcloud::knn::{KnnTable, PointIndex};
 use glam::Vec3;
@@ -25,10 +26,10 @@ fn shingled_disks(w: usize, lift: f32) -> DiskGeometry {
     let index = PointIndex::build(&positions);
     let table = KnnTable::build_with(&index, &positions, FAN_NEIGHBOURS);
     let mut radii = vec![0.6; positions.len()];
-    let (_, clips) = fit_radii_clipped(&index, &positions, &normals, &mut radii, Some(&table), &[]);
+    let (_, cuts) = fit_radii_clipped(&index, &positions, &normals, &mut radii, Some(&table), &[]);
     let thickness = vec![300.0; positions.len()];
     let mut disks = DiskGeometry::build(&positions, &normals, &radii, &thickness).unwrap();
-    disks.set_edge_clips(&clips).unwrap();
+    disks.set_edge_clips(&clips(&cuts)).unwrap();
     disks
 }
 

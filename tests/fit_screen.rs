@@ -7,7 +7,7 @@ mod fit_support;
 use fit_support::{films, for_fit, sample};
 
 use filmsplat::pointcloud::PointCloud;
-use filmsplat::pointcloud::clip::NO_CLIP;
+use filmsplat::pointcloud::cut::Cut;
 use filmsplat::pointcloud::gaps::{GapReport, fit_radii_clipped};
 use filmsplat::pointcloud::screen::{SCREEN_STRIDE, Screen, screen_fit_strided};
 
@@ -27,7 +27,7 @@ fn fit_and_screen(cloud: PointCloud, strides: &[usize]) -> (Vec<usize>, GapRepor
         own,
     );
     let changed = (0..radii.len())
-        .filter(|&i| fitted[i].to_bits() != radii[i].to_bits() || clips[i] != NO_CLIP)
+        .filter(|&i| fitted[i].to_bits() != radii[i].to_bits() || clips[i] != Cut::None)
         .collect();
     let screens = strides
         .iter()

@@ -13,11 +13,7 @@ use filmsplat::pointcloud::PointCloud;
 use filmsplat::pointcloud::gaps::{GapReport, SecondLook, fit_radii_looking};
 
 /// The fitted radii, edge cuts and report of one rule.
-type Fitted = (
-    Vec<f32>,
-    Vec<filmsplat::pointcloud::clip::EdgeClip>,
-    GapReport,
-);
+type Fitted = (Vec<f32>, Vec<filmsplat::pointcloud::cut::Cut>, GapReport);
 
 /// The three rules on one film cloud, prepared as `render` prepares it; returns the whole
 /// rows' fit, the middle look's and the default's.

@@ -9,8 +9,9 @@ use crate::geometry::{
 };
 use crate::pointcloud::PointCloud;
 use crate::pointcloud::area::own_radii;
-use crate::pointcloud::clip::{EdgeClip, NO_CLIP, is_inner_cut};
+use crate::pointcloud::clip::EdgeClip;
 use crate::pointcloud::curvature::{curvature_from_table, first_order_detail, gradient_from_table};
+use crate::pointcloud::cut::{Cut, clips};
 use crate::pointcloud::knn::KnnTable;
 use crate::render::{AttributeValues, Environment, LatLongMap, Studio};
 use crate::{Error, Result};
@@ -105,14 +106,14 @@ pub(super) fn film_detail(
 
 /// The film geometry of `cloud` drawn as `film.primitive` with `radii`; `detail`, the disks'
 /// first-order detail ([`film_detail`]; `None`: flat disks of uniform thickness; motion blur's
-/// slices share their unmoved frame's); `clips`, the disks' edge cuts (empty: none);
+/// slices share their unmoved frame's); `cuts`, the fit's verdicts (empty: none);
 /// `sheets`, each particle's film part, blended on its own by the MLS surface (empty: one).
 pub(super) fn film_geometry(
     film: &FilmConfig,
     cloud: &PointCloud,
     radii: &[f32],
     detail: Option<&Detail>,
-    (clips, sheets): (&[EdgeClip], &[u32]),
+    (cuts, sheets): (&[Cut], &[u32]),
 ) -> Result<FilmGeometry> {
     let normals = cloud.normals.as_deref().unwrap_or_default();
     let thickness = cloud.thickness_nm.as_deref().unwrap_or_default();
@@ -130,18 +131,18 @@ pub(super) fn film_geometry(
             if !film.blend {
                 disks.set_layer_blend(LayerBlend::NONE);
             }
-            if !clips.is_empty() {
-                disks.set_edge_clips(clips)?;
+            if !cuts.is_empty() {
+                disks.set_edge_clips(&clips(cuts))?;
             }
             Ok(disks.into())
         }
         Primitive::Sphere => Ok(SphereGeometry::build(positions, n, radii, thickness)?.into()),
         Primitive::Mls => {
             let cut: Vec<f32>;
-            let radii = if clips.is_empty() {
+            let radii = if cuts.is_empty() {
                 radii
             } else {
-                cut = mls_radii(radii, clips, &own_radii(cloud));
+                cut = mls_radii(radii, cuts, &own_radii(cloud));
                 &cut
             };
             let mut surface = MlsSurface::build(positions, n, radii, thickness)?;
@@ -154,7 +155,7 @@ pub(super) fn film_geometry(
 }
 
 /// The MLS surface's particle radii (its supports are [`crate::geometry::MlsParams::support`]
-/// times these) from the fitted `radii`, their cuts `clips` and the particles' own radii √(A/π)
+/// times these) from the fitted `radii`, the fit's verdicts `cuts` and the particles' own radii √(A/π)
 /// `own` (0 or missing: unknown). The surface has no cut, so:
 ///
 /// - an edge particle (an edge cut, on its neighbours' hull) stays within its cut's offset,
@@ -163,24 +164,25 @@ pub(super) fn film_geometry(
 ///   ([`support_reach`]), so a torn fragment's corner particles still reach each other
 ///   (without areas, on the MELP foam with its walls merged into one sheet, the larger corner
 ///   supports left pixels whose field holds a crossing the march skips: `tests/pinholes_real.rs`);
-/// - a particle one row in (an inner cut, [`is_inner_cut`]) keeps the plain disk's radius, its
-///   cut's nearer offset, as a particle the fit did not cut keeps its radius; so does a disk
-///   grown past its cell for its neighbours' tilted planes (`pointcloud::clip::grown_from`);
+/// - a particle one row in ([`Cut::Inner`]) keeps the plain disk's radius, its cut's nearer
+///   offset, as a particle the fit did not cut keeps its radius; so does a disk grown past its
+///   cell for its neighbours' tilted planes ([`Cut::Grown`]);
 /// - neither is ever smaller than its own area: the fit trims a rolled rim's or a torn
 ///   fragment's particles well below it, and the supports of so sparse a sampling then weigh
 ///   less than the intact film's threshold where the particles' areas hold film
 ///   (single-pixel pinholes at fragments' edges, bursting frames 83–113).
-fn mls_radii(radii: &[f32], clips: &[EdgeClip], own: &[f32]) -> Vec<f32> {
+fn mls_radii(radii: &[f32], cuts: &[Cut], own: &[f32]) -> Vec<f32> {
     radii
         .iter()
         .enumerate()
         .map(|(i, &r)| {
             let own = own.get(i).copied().unwrap_or(0.0);
-            match clips.get(i) {
-                Some(c) if is_inner_cut(c) => r.min(c[0].w).min(c[1].w).max(own),
-                Some(c) if *c != NO_CLIP && own > 0.0 => r.min(support_reach(c)),
-                Some(c) if *c != NO_CLIP => r.min(c[0].w).min(c[1].w),
-                _ => r.max(own),
+            match cuts.get(i) {
+                Some(Cut::Inner(c)) => r.min(c[0].w).min(c[1].w).max(own),
+                Some(Cut::Grown { flat }) => r.min(*flat).max(own),
+                Some(Cut::Edge(c)) if own > 0.0 => r.min(support_reach(c)),
+                Some(Cut::Edge(c)) => r.min(c[0].w).min(c[1].w),
+                Some(Cut::None) | None => r.max(own),
             }
         })
         .collect()
@@ -310,5 +312,48 @@ pub(super) fn environment(e: &EnvironmentConfig, view: Vec3) -> Result<Environme
                 *intensity,
             )))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4;
+
+    /// Each verdict's MLS radius: a whole or grown disk keeps its plain radius (never below its
+    /// own area), an inner cut its nearer offset (never below its own area), an edge particle
+    /// its cut's reach (its offset where its area is unknown).
+    #[test]
+    fn each_verdict_gives_its_support_radius() {
+        let edge = [
+            Vec4::new(0.0, -1.0, 0.0, 0.4),
+            Vec4::new(-1.0, 0.0, 0.0, 0.4),
+        ];
+        let inner = [
+            Vec4::new(0.0, -1.0, 0.0, 0.7),
+            Vec4::new(-1.0, 0.0, 0.0, 0.9),
+        ];
+        let cuts = [
+            Cut::None,
+            Cut::Grown { flat: 0.8 },
+            Cut::Inner(inner),
+            Cut::Edge(edge),
+            Cut::Edge(edge),
+            Cut::Grown { flat: 0.3 },
+        ];
+        let radii = [1.0, 1.2, 1.0, 1.0, 1.0, 1.2];
+        let own = [1.1, 0.5, 0.5, 0.5, 0.0, 0.5];
+        let got = mls_radii(&radii, &cuts, &own);
+        // An edge cut at a right-angled corner: the reach is its offset over cos 45°.
+        let reach = 0.4 / std::f32::consts::FRAC_1_SQRT_2;
+        let want = [1.1, 0.8, 0.7, reach, 0.4, 0.5];
+        for (k, (g, w)) in got.iter().zip(want).enumerate() {
+            assert!((g - w).abs() < 1e-6, "verdict {k}: {g} against {w}");
+        }
+        assert_eq!(
+            mls_radii(&[1.0], &[], &[2.0]),
+            vec![2.0],
+            "no verdict: a whole disk"
+        );
     }
 }

@@ -12,7 +12,7 @@ pub use super::sample_check::check_sample_params;
 use crate::io::{CloudPart, PartKind, ThicknessUnit, read_cloud};
 use crate::optics::check_film_params;
 use crate::pointcloud::area::{DETACHED, detached_at_own_size};
-use crate::pointcloud::clip::{EdgeClip, NO_CLIP};
+use crate::pointcloud::cut::Cut;
 use crate::pointcloud::gaps::{
     AREA_OVERLAP, FAN_NEIGHBOURS, bound_by_area, fit_radii_clipped, own_radii,
 };
@@ -156,9 +156,10 @@ pub(super) struct Films {
     /// Some film's radii were kept because a sample of its particles needed no fit (not
     /// every particle was judged: `pointcloud::screen`).
     pub screened: bool,
-    /// Each particle's cut at the open edge it lies on (see `pointcloud::clip`), one per
-    /// particle of `cloud`; empty when the radii were not fitted.
-    pub clips: Vec<EdgeClip>,
+    /// The fit's verdict on each particle's splat (its cut at an open edge, its growth past its
+    /// cell: see `pointcloud::cut`), one per particle of `cloud`; empty when the radii were not
+    /// fitted.
+    pub cuts: Vec<Cut>,
     /// Each particle's film part (its place among the films: a foam's bubble, an input file),
     /// one per particle of `cloud`; empty for one film. The MLS surface blends each part on its
     /// own (see `geometry::mls`'s sheets).
@@ -215,7 +216,7 @@ pub(super) fn films(
     Ok(assemble(ready, notes))
 }
 
-/// The films as one cloud: each film's particles, clips and sheet label after the last's.
+/// The films as one cloud: each film's particles, cuts and sheet label after the last's.
 fn assemble(ready: Vec<Ready>, notes: &mut Vec<Note>) -> Films {
     let single = ready.len() == 1;
     let mut clouds = Vec::with_capacity(ready.len());
@@ -225,17 +226,17 @@ fn assemble(ready: Vec<Ready>, notes: &mut Vec<Note>) -> Films {
     };
     for part in ready {
         notes.extend(part.notes);
-        let (cloud, clips) = (part.cloud, part.clips);
+        let (cloud, cuts) = (part.cloud, part.cuts);
         out.had_radius &= part.had_radius;
         out.screened |= part.screened;
-        if !clips.is_empty() && out.clips.is_empty() {
+        if !cuts.is_empty() && out.cuts.is_empty() {
             let before: usize = clouds.iter().map(PointCloud::len).sum();
-            out.clips = vec![NO_CLIP; before];
+            out.cuts = vec![Cut::None; before];
         }
-        if !clips.is_empty() || !out.clips.is_empty() {
+        if !cuts.is_empty() || !out.cuts.is_empty() {
             let n = cloud.len();
-            out.clips
-                .extend(clips.into_iter().chain(std::iter::repeat(NO_CLIP)).take(n));
+            out.cuts
+                .extend(cuts.into_iter().chain(std::iter::repeat(Cut::None)).take(n));
         }
         if single {
             out.neighbours = part.table;
@@ -257,7 +258,7 @@ fn assemble(ready: Vec<Ready>, notes: &mut Vec<Note>) -> Films {
 /// thickness scaled (a thickness certainly in another unit refused, unless `unit_explicit`:
 /// the user named the unit or a scale), what is missing estimated, radii fitted; with the
 /// neighbour table if one was built (by the estimate, or for the fit), whether the part came
-/// with radii, and its edge cuts (empty when not fitted). Its notes go to `notes`.
+/// with radii, and the fit's cuts (empty when not fitted). Its notes go to `notes`.
 fn complete(
     part: CloudPart,
     film: &FilmConfig,
@@ -307,7 +308,7 @@ fn complete(
         validate(&cloud).map_err(name)?;
     }
     let own = bound_by_own_area(&label, &mut cloud, notes);
-    let (table, clips, screened) = fit(
+    let (table, cuts, screened) = fit(
         &label,
         &mut cloud,
         film.fit_radii,
@@ -319,7 +320,7 @@ fn complete(
         cloud,
         table,
         had_radius,
-        clips,
+        cuts,
         screened,
         notes: Vec::new(),
     })
@@ -327,7 +328,7 @@ fn complete(
 
 /// Fits `cloud`'s radii to the sampling as `mode` says (see [`FitRadii`]), with the
 /// estimate's neighbour `index` and `table` if it built them; returns the table (the
-/// estimate's, or the fit's 12-neighbour one), the edge cuts (empty: none) and whether the
+/// estimate's, or the fit's 12-neighbour one), the fit's cuts (empty: none) and whether the
 /// radii were kept on a sample's word (not every particle judged).
 fn fit(
     label: &str,
@@ -336,7 +337,7 @@ fn fit(
     (index, mut table): (Option<PointIndex>, Option<KnnTable>),
     own: &[f32],
     notes: &mut Vec<Note>,
-) -> (Option<KnnTable>, Vec<EdgeClip>, bool) {
+) -> (Option<KnnTable>, Vec<Cut>, bool) {
     let (Some(r), true) = (cloud.radius.as_mut(), mode.may_fit()) else {
         return (table, Vec::new(), false);
     };
@@ -354,7 +355,7 @@ fn fit(
             return (
                 table,
                 if uncut {
-                    vec![NO_CLIP; r.len()]
+                    vec![Cut::None; r.len()]
                 } else {
                     Vec::new()
                 },

@@ -235,7 +235,7 @@ fn motion_slices(
         &films.cloud,
         &velocities,
         (radii, detail),
-        (&films.clips, &films.sheets),
+        (&films.cuts, &films.sheets),
         &times,
     )?;
     let took = stage.finish(&format!("built {} motion-blur slices", slices.len()));
@@ -296,7 +296,7 @@ fn build_geometry(
         &films.cloud,
         radii,
         detail.as_ref(),
-        (&films.clips, &films.sheets),
+        (&films.cuts, &films.sheets),
     )?;
     let build_time = stage.finish(&format!(
         "built the {geometry} geometry of {} particles",

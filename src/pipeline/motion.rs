@@ -13,7 +13,7 @@ use super::build;
 use super::config::FilmConfig;
 use crate::geometry::FilmGeometry;
 use crate::pointcloud::PointCloud;
-use crate::pointcloud::clip::EdgeClip;
+use crate::pointcloud::cut::Cut;
 use crate::render::{FilmShader, RenderOutput, RenderSettings, Staging, WorldRef};
 use crate::{Error, Result};
 use glam::Vec3;
@@ -98,14 +98,14 @@ pub(super) fn moved(cloud: &PointCloud, v: &[Vec3], t: f32) -> PointCloud {
 }
 
 /// The films at each time of `times_s`: positions moved by velocity × time, everything else
-/// (radii, the disks' first-order `detail`, normals, thickness, edge cuts) as on the unmoved
+/// (radii, the disks' first-order `detail`, normals, thickness, the fit's cuts) as on the unmoved
 /// cloud, so each slice costs only its tree's build; one geometry each.
 pub(super) fn slices(
     film: &FilmConfig,
     cloud: &PointCloud,
     velocities: &[Vec3],
     (radii, detail): (&[f32], Option<&build::Detail>),
-    parts: (&[EdgeClip], &[u32]),
+    parts: (&[Cut], &[u32]),
     times_s: &[f32],
 ) -> Result<Vec<MotionSlice>> {
     times_s

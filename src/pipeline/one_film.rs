@@ -12,7 +12,7 @@ use super::prepared::Note;
 use crate::Result;
 use crate::io::CloudPart;
 use crate::pointcloud::PointCloud;
-use crate::pointcloud::clip::{EdgeClip, cuts};
+use crate::pointcloud::cut::Cut;
 use crate::pointcloud::knn::{KnnTable, PointIndex};
 use crate::pointcloud::stats::median_nearest;
 use glam::Vec3;
@@ -40,10 +40,9 @@ pub struct Piece<'a> {
     pub positions: &'a [Vec3],
     /// Unit normals, one a particle (sign ignored); empty: the part joins nothing.
     pub normals: &'a [Vec3],
-    /// The fit's cuts, one a particle (`NO_CLIP` inside the film, or a disk's growth past its
-    /// cell, `grown_from`: see `pointcloud::clip`); empty: not fitted, so no edge is known and
-    /// the part joins nothing.
-    pub clips: &'a [EdgeClip],
+    /// The fit's verdicts, one a particle (see `pointcloud::cut`); empty: not fitted, so no
+    /// edge is known and the part joins nothing.
+    pub cuts: &'a [Cut],
     /// The part's median nearest-neighbour distance (scene units).
     pub spacing: f32,
 }
@@ -51,7 +50,7 @@ pub struct Piece<'a> {
 impl Piece<'_> {
     /// Whether particle `i` is on an open edge of its part.
     fn on_edge(&self, i: usize) -> bool {
-        self.normals.len() == self.positions.len() && self.clips.get(i).is_some_and(cuts)
+        self.normals.len() == self.positions.len() && self.cuts.get(i).is_some_and(Cut::cuts)
     }
 }
 
@@ -63,8 +62,8 @@ pub(super) struct Ready {
     pub table: Option<KnnTable>,
     /// The part came with its radii.
     pub had_radius: bool,
-    /// The fit's cuts, one a particle (empty: not fitted).
-    pub clips: Vec<EdgeClip>,
+    /// The fit's verdicts, one a particle (empty: not fitted).
+    pub cuts: Vec<Cut>,
     /// Its radii were kept on a sample's word (see `load::fit`).
     pub screened: bool,
     /// What completing it said, in order.
@@ -88,7 +87,7 @@ pub(super) fn join_seams(
         .map(|r| Piece {
             positions: &r.cloud.positions,
             normals: r.cloud.normals.as_deref().unwrap_or_default(),
-            clips: &r.clips,
+            cuts: &r.cuts,
             spacing: r.table.as_ref().map_or(0.0, median_nearest),
         })
         .collect();
@@ -223,35 +222,32 @@ fn contacts(pieces: &[Piece]) -> Vec<((usize, usize), usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pointcloud::clip::NO_CLIP;
     use glam::Vec4;
 
     /// A flat grid of `w`×`h` particles at spacing 1 starting at x = `x0` in the plane
     /// z = `z`, with normal `n`; the particles in the columns listed in `edge_cols` are cut.
-    fn grid(
-        x0: f32,
-        z: f32,
-        w: usize,
-        h: usize,
-        edge_cols: &[usize],
-    ) -> (Vec<Vec3>, Vec<EdgeClip>) {
-        let cut: EdgeClip = [Vec4::new(1.0, 0.0, 0.0, 0.5), Vec4::new(0.0, 1.0, 0.0, 0.5)];
+    fn grid(x0: f32, z: f32, w: usize, h: usize, edge_cols: &[usize]) -> (Vec<Vec3>, Vec<Cut>) {
+        let cut = Cut::Edge([Vec4::new(1.0, 0.0, 0.0, 0.5), Vec4::new(0.0, 1.0, 0.0, 0.5)]);
         let mut pos = Vec::new();
-        let mut clips = Vec::new();
+        let mut cuts = Vec::new();
         for c in 0..w {
             for r in 0..h {
                 pos.push(Vec3::new(x0 + c as f32, r as f32, z));
-                clips.push(if edge_cols.contains(&c) { cut } else { NO_CLIP });
+                cuts.push(if edge_cols.contains(&c) {
+                    cut
+                } else {
+                    Cut::None
+                });
             }
         }
-        (pos, clips)
+        (pos, cuts)
     }
 
-    fn piece<'a>(p: &'a [Vec3], n: &'a [Vec3], c: &'a [EdgeClip]) -> Piece<'a> {
+    fn piece<'a>(p: &'a [Vec3], n: &'a [Vec3], c: &'a [Cut]) -> Piece<'a> {
         Piece {
             positions: p,
             normals: n,
-            clips: c,
+            cuts: c,
             spacing: 1.0,
         }
     }

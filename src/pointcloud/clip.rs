@@ -135,71 +135,20 @@ pub fn inner_cut(hull: &[Vec2], reach: f32) -> Option<([(Vec2, f32); 2], f32)> {
         .filter(|k| Some(*k) != shared)
         .map(|k| (hull[k].length_squared() + reach * reach).sqrt());
     let most = past_edges.chain(past_corners).fold(f32::INFINITY, f32::min);
-    let [mut first, mut second] = [edges[0], edges[1]].map(|(m, d, _)| (m, d + reach));
-    // The offsets of an inner cut differ (see [`is_inner_cut`]): where the particle lies as far
-    // from both edges, the nearer line is moved in by one unit in the last place.
-    if first.1 == second.1 {
-        (first.1, second.1) = (first.1.next_down(), second.1);
-    }
-    Some(([first, second], most))
-}
-
-/// No cut (both normals zero: every point kept) for a disk the fit grew past its cell, for
-/// neighbours whose planes lie apart from its own (`super::fan::shingle_overlap`), recording
-/// in one offset the radius `flat` it has without that growth. The disks cut nothing with it
-/// ([`cuts`]); the MLS surface, whose supports blend across such neighbours, reads it as an
-/// inner cut ([`is_inner_cut`]) and keeps its nearer offset, `flat`, as its radius.
-pub fn grown_from(flat: f32) -> EdgeClip {
-    [
-        Vec4::new(0.0, 0.0, 0.0, f32::INFINITY),
-        Vec4::new(0.0, 0.0, 0.0, flat),
-    ]
+    let cut = [edges[0], edges[1]].map(|(m, d, _)| (m, d + reach));
+    Some((cut, most))
 }
 
 /// Whether `clip` removes any part of a disk: a cut with a half-plane of non-zero normal and
-/// finite offset (not [`NO_CLIP`], not [`grown_from`]).
+/// finite offset (not [`NO_CLIP`]).
 pub fn cuts(clip: &EdgeClip) -> bool {
     clip.iter()
         .any(|h| h.w.is_finite() && h.is_finite() && h.truncate() != Vec3::ZERO)
 }
 
-/// Whether `clip` is an inner cut ([`inner_cut`]: a particle inside its neighbours' hull, cut
-/// at its distances to the two nearest hull edges plus the reach, which [`inner_cut`] keeps
-/// apart) rather than an edge cut ([`edge_cut`], [`to_3d`]: a particle on the hull, both lines
-/// at the same offset, the reach past the two hull edges through it) or none.
-pub fn is_inner_cut(clip: &EdgeClip) -> bool {
-    *clip != NO_CLIP && clip[0].w != clip[1].w
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// An inner cut is told from an edge cut by its offsets, even where the particle lies as far
-    /// from both nearest hull edges (the centre of a square) and both offsets would be equal.
-    #[test]
-    fn inner_cuts_are_told_from_edge_cuts() {
-        let square = [
-            Vec2::new(-1.0, -1.0),
-            Vec2::new(1.0, -1.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(-1.0, 1.0),
-        ];
-        let (u, v) = (Vec3::X, Vec3::Y);
-        let (cut, _) = inner_cut(&square, 0.5).unwrap();
-        let inner = cut.map(|(m, k)| (m.x * u + m.y * v).extend(k));
-        assert!(is_inner_cut(&inner));
-        assert!((inner[0].w - 1.5).abs() < 1e-6 && (inner[1].w - 1.5).abs() < 1e-6);
-        let off = Vec2::new(0.3, -0.2);
-        let shifted = square.map(|p| p - off);
-        let (cut, _) = inner_cut(&shifted, 0.5).unwrap();
-        assert!(is_inner_cut(
-            &cut.map(|(m, k)| (m.x * u + m.y * v).extend(k))
-        ));
-        let edge = to_3d([Vec2::new(0.0, -1.0), Vec2::new(1.0, 0.0)], 0.5, u, v);
-        assert!(!is_inner_cut(&edge));
-        assert!(!is_inner_cut(&NO_CLIP));
-    }
 
     #[test]
     fn the_cut_follows_the_edges_and_keeps_the_inside() {

@@ -54,7 +54,8 @@ use super::adrift::adrift_flags;
 pub use super::area::{
     AREA_ATTRIBUTES, AREA_GROWTH, AREA_OVERLAP, area_radii, bound_by_area, own_radii,
 };
-use super::clip::{EdgeClip, NO_CLIP, grown_from};
+use super::clip::{EdgeClip, NO_CLIP};
+use super::cut::Cut;
 use super::estimate::median_positive;
 pub use super::fan::{EDGE_REACH, GAP_MARGIN, GRAZING_TAN, LONG_EDGE, OPEN_FRACTION, SPACING_RANK};
 use super::fan::{FanScratch, Fit, fan};
@@ -145,9 +146,10 @@ pub fn fit_radii_indexed(
 
 /// [`fit_radii_indexed`] knowing each particle's own size `own` (the radius of its area, from
 /// [`area_radii`]; empty or 0 where unknown): isolated particles are drawn at it, and no
-/// radius grows beyond [`AREA_GROWTH`] times it; also returning each splat's cut at the open
-/// edge it lies on ([`super::clip`]; [`NO_CLIP`] elsewhere, and for all when nothing was
-/// fitted: then the list is empty). A splat drawn without its cut may leave notches at open edges.
+/// radius grows beyond [`AREA_GROWTH`] times it; also returning each splat's [`Cut`]: the cut
+/// at the open edge it lies on or one row in from it ([`super::clip`]), its growth past its
+/// cell for tilted neighbours, or none (and an empty list when nothing was fitted). A splat
+/// drawn without its cut may leave notches at open edges.
 pub fn fit_radii_clipped(
     index: &PointIndex,
     positions: &[Vec3],
@@ -155,7 +157,7 @@ pub fn fit_radii_clipped(
     radii: &mut [f32],
     table: Option<&KnnTable>,
     own: &[f32],
-) -> (GapReport, Vec<EdgeClip>) {
+) -> (GapReport, Vec<Cut>) {
     let look = SecondLook::default();
     fit_radii_looking(index, positions, normals, radii, table, own, look)
 }
@@ -169,7 +171,7 @@ pub fn fit_radii_looking(
     table: Option<&KnnTable>,
     own: &[f32],
     look: SecondLook,
-) -> (GapReport, Vec<EdgeClip>) {
+) -> (GapReport, Vec<Cut>) {
     let n = positions.len();
     if n < 3
         || normals.len() != n
@@ -220,14 +222,14 @@ pub fn fit_radii_looking(
     };
     let (middle_looks, wide_looks) = second_looks(&cloud, &mut looked, look);
     drop(fit);
-    let (report, clips) = apply(radii, looked.into_iter().map(|(f, _)| f), cap, own);
+    let (report, verdicts) = apply(radii, looked.into_iter().map(|(f, _)| f), cap, own);
     let report = GapReport {
         middle_looks,
         wide_looks,
         adrift: adrift.iter().filter(|a| **a).count(),
         ..report
     };
-    (report, clips)
+    (report, verdicts)
 }
 
 /// The cloud's scales for its fans: the most a radius grows ([`MAX_GROWTH`] × the median
@@ -257,23 +259,18 @@ pub(super) fn fit_row<'a>(
 }
 
 /// Sets the radii from their fans' verdicts (growth capped at `cap`, and at [`AREA_GROWTH`] ×
-/// the particles' own sizes `own` where known: empty or 0 for unknown); returns the edge cuts.
+/// the particles' own sizes `own` where known: empty or 0 for unknown); returns their [`Cut`]s.
 pub(super) fn apply(
     radii: &mut [f32],
     fits: impl Iterator<Item = Fit>,
     cap: f32,
     own: &[f32],
-) -> (GapReport, Vec<EdgeClip>) {
+) -> (GapReport, Vec<Cut>) {
     let mut report = GapReport::default();
-    let mut clips = vec![NO_CLIP; radii.len()];
+    let mut verdicts = vec![Cut::None; radii.len()];
     for (i, (r, fit)) in radii.iter_mut().zip(fits).enumerate() {
         let own = own.get(i).copied().filter(|o| *o > 0.0);
-        // Growth is capped at `growth` × the particle's own size, never below what it had.
-        let bounded = |new: f32, growth: f32| match own {
-            Some(o) => new.min(growth * o).max(r.min(new)),
-            None => new,
-        };
-        let new = match fit {
+        let (new, verdict) = match fit {
             Fit::Sheet {
                 need,
                 most,
@@ -286,46 +283,19 @@ pub(super) fn apply(
             } => {
                 report.edge += usize::from(edge);
                 let floor = if strand { own.unwrap_or(0.0) } else { 0.0 };
-                // One row in from an open edge (`cut_most` > `most`): trimmed to `most` as a
-                // plain disk, it covers its cell (`need`, and the growth past it for its
-                // neighbours' planes, `shingle`) up to `cut_most` with its cut drawn (else
-                // crevices open beside the rim), as an edge particle does. A cut splat grows no
-                // further than a splat keeps unfitted.
-                let inner = cut_most > most;
-                let plain_growth = if clip == NO_CLIP || inner {
-                    AREA_GROWTH
-                } else {
-                    AREA_OVERLAP
-                };
-                let plain =
-                    |need: f32| bounded(r.max(need.min(cap)).min(most).max(floor), plain_growth);
-                let flat = plain(need);
-                let cut = bounded((need + shingle).min(cap).min(cut_most), AREA_OVERLAP);
-                if inner && cut > flat {
-                    clips[i] = clip;
-                    cut
-                } else {
-                    clips[i] = if inner { NO_CLIP } else { clip };
-                    // Grown past its cell for its neighbours' planes: the disk alone (the
-                    // MLS surface keeps `flat`, see [`grown_from`]).
-                    let grown = plain(need + shingle);
-                    if grown > flat && clips[i] == NO_CLIP {
-                        clips[i] = grown_from(flat);
-                        grown
-                    } else {
-                        flat
-                    }
-                }
+                let reach = (need, most, cut_most, shingle);
+                on_sheet(*r, own, cap, reach, clip, floor)
             }
-            Fit::Isolated(nearest) => bounded(
-                match own {
+            Fit::Isolated(nearest) => {
+                let new = match own {
                     Some(o) => o,
                     None if nearest.is_finite() => r.min(EDGE_REACH * nearest),
                     None => *r,
-                },
-                AREA_GROWTH,
-            ),
+                };
+                (bounded(*r, own, new, AREA_GROWTH), Cut::None)
+            }
         };
+        verdicts[i] = verdict;
         if new > *r {
             report.grown += 1;
         } else if new < *r && new > 0.0 {
@@ -335,7 +305,67 @@ pub(super) fn apply(
             *r = new;
         }
     }
-    (report, clips)
+    (report, verdicts)
+}
+
+/// `new`, its growth capped at `growth` × the particle's own size `own` (if known), never
+/// below what it had (`r`).
+fn bounded(r: f32, own: Option<f32>, new: f32, growth: f32) -> f32 {
+    match own {
+        Some(o) => new.min(growth * o).max(r.min(new)),
+        None => new,
+    }
+}
+
+/// The radius and verdict of a particle of radius `r` whose fan asks for `need` (capped at
+/// `cap`), allows `most` as a plain disk and `cut_most` with its `clip` drawn, with `shingle`
+/// of growth for its neighbours' tilted planes and at least `floor`. One row in from an open
+/// edge (`cut_most` > `most`): trimmed to `most` as a plain disk, it covers its cell (`need`,
+/// and `shingle` past it) up to `cut_most` with its cut drawn (else crevices open beside the
+/// rim), as an edge particle does. A cut splat grows no further than a splat keeps unfitted.
+fn on_sheet(
+    r: f32,
+    own: Option<f32>,
+    cap: f32,
+    (need, most, cut_most, shingle): (f32, f32, f32, f32),
+    clip: EdgeClip,
+    floor: f32,
+) -> (f32, Cut) {
+    let inner = cut_most > most;
+    let plain_growth = if clip == NO_CLIP || inner {
+        AREA_GROWTH
+    } else {
+        AREA_OVERLAP
+    };
+    let plain = |need: f32| {
+        bounded(
+            r,
+            own,
+            r.max(need.min(cap)).min(most).max(floor),
+            plain_growth,
+        )
+    };
+    let flat = plain(need);
+    let cut = bounded(
+        r,
+        own,
+        (need + shingle).min(cap).min(cut_most),
+        AREA_OVERLAP,
+    );
+    if inner && cut > flat {
+        (cut, Cut::Inner(clip))
+    } else if !inner && clip != NO_CLIP {
+        (flat, Cut::Edge(clip))
+    } else {
+        // Grown past its cell for its neighbours' planes: the disk alone (the MLS surface
+        // keeps `flat`, see [`Cut::Grown`]).
+        let grown = plain(need + shingle);
+        if grown > flat {
+            (grown, Cut::Grown { flat })
+        } else {
+            (flat, Cut::None)
+        }
+    }
 }
 
 /// The median over (up to [`SPACING_SAMPLE`] strided) particles of the distance to their

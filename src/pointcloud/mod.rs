@@ -10,6 +10,7 @@ pub mod area;
 pub mod cell;
 pub mod clip;
 pub mod curvature;
+pub mod cut;
 pub mod dedupe;
 pub mod droplet_size;
 pub mod eigen;

@@ -22,7 +22,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::adrift::is_adrift;
-use super::clip::NO_CLIP;
+use super::cut::Cut;
 use super::fan::Fit;
 use super::gaps::{FAN_NEIGHBOURS, apply, fit_row, scales};
 use super::knn::PointIndex;
@@ -180,9 +180,9 @@ fn changes(ids: &[u32], radii: &[f32], own: &[f32], fits: &[Fit], cap: f32) -> u
         false => ids.iter().map(|&i| own[i as usize]).collect(),
     };
     let before = kept.clone();
-    let (_, clips) = apply(&mut kept, fits.iter().copied(), cap, &own);
+    let (_, verdicts) = apply(&mut kept, fits.iter().copied(), cap, &own);
     let on_edge = |f: &Fit| matches!(f, Fit::Sheet { edge: true, .. });
-    (kept.iter().zip(&before).zip(clips.iter().zip(fits)))
-        .filter(|((a, b), (c, f))| a.to_bits() != b.to_bits() || **c != NO_CLIP || on_edge(f))
+    (kept.iter().zip(&before).zip(verdicts.iter().zip(fits)))
+        .filter(|((a, b), (c, f))| a.to_bits() != b.to_bits() || **c != Cut::None || on_edge(f))
         .count()
 }
