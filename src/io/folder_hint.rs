@@ -14,34 +14,35 @@ pub(crate) const MAX_ENTRIES: usize = 100_000;
 /// Numbered entries sharing a name around their number.
 #[derive(Default)]
 struct Run {
-    numbers: Vec<u64>,
-    /// Digit counts seen, and whether any number had a leading zero.
+    count: usize,
+    /// The fewest and most digits seen.
     widths: (usize, usize),
+    /// Whether any number had a leading zero.
     padded: bool,
-    /// The name of the lowest number.
-    first_name: String,
-    /// The name of the highest number.
-    last_name: String,
+    /// The lowest and the highest number, each with its entry's name.
+    lo: Option<(u64, String)>,
+    hi: Option<(u64, String)>,
 }
 
 impl Run {
     fn add(&mut self, digits: &str, name: &str) {
         let Ok(n) = digits.parse::<u64>() else { return };
-        if self.numbers.is_empty() {
-            self.widths = (digits.len(), digits.len());
+        self.widths = if self.count == 0 {
+            (digits.len(), digits.len())
+        } else {
+            (
+                self.widths.0.min(digits.len()),
+                self.widths.1.max(digits.len()),
+            )
+        };
+        if self.lo.as_ref().is_none_or(|(m, _)| n < *m) {
+            self.lo = Some((n, name.to_string()));
         }
-        if self.numbers.iter().all(|&m| n < m) {
-            self.first_name = name.to_string();
+        if self.hi.as_ref().is_none_or(|(m, _)| n > *m) {
+            self.hi = Some((n, name.to_string()));
         }
-        if self.numbers.iter().all(|&m| n > m) {
-            self.last_name = name.to_string();
-        }
-        self.widths = (
-            self.widths.0.min(digits.len()),
-            self.widths.1.max(digits.len()),
-        );
         self.padded |= digits.len() > 1 && digits.starts_with('0');
-        self.numbers.push(n);
+        self.count += 1;
     }
 
     /// The frame pattern's placeholder, or `None` if the names mix widths with padding.
@@ -91,27 +92,22 @@ pub(crate) fn hint(
         .into_iter()
         .filter(|(_, r)| r.placeholder().is_some())
         .max_by_key(|((_, b, _), r)| {
-            (
-                r.numbers.len(),
-                b.starts_with("l_"),
-                std::cmp::Reverse(b.clone()),
-            )
+            (r.count, b.starts_with("l_"), std::cmp::Reverse(b.clone()))
         })?;
-    if is_dir && !is_frame_folder(&dir.join(&run.first_name)) {
+    let pattern = dir.join(format!("{before}{}{after}", run.placeholder()?));
+    let (Some((lo, first)), Some((hi, last))) = (run.lo, run.hi) else {
+        return None;
+    };
+    if is_dir && !is_frame_folder(&dir.join(&first)) {
         return None;
     }
-    let (lo, hi) = run
-        .numbers
-        .iter()
-        .fold((u64::MAX, 0), |(a, b), &n| (a.min(n), b.max(n)));
-    let pattern = dir.join(format!("{before}{}{after}", run.placeholder()?));
     let what = if is_dir {
         "frame folders"
     } else {
         "particle files"
     };
-    let count = run.numbers.len();
-    let gaps = if (hi - lo + 1) as usize == count {
+    let count = run.count;
+    let gaps = if u128::from(hi - lo) + 1 == count as u128 {
         ""
     } else {
         ", with gaps"
@@ -119,8 +115,8 @@ pub(crate) fn hint(
     Some(format!(
         "it holds {count} numbered {what} ({} to {}{gaps}): render one of them, or the sequence \
          with '{}' --frames {lo}..={hi}",
-        run.first_name,
-        run.last_name,
+        first,
+        last,
         pattern.display()
     ))
 }

@@ -329,7 +329,7 @@ fn not_a_frame_folder(path: &Path) -> String {
             .iter()
             .any(|f| matches!(f.recognise, Recognise::Folder(is) if is(p)))
     };
-    let is_file = |p: &Path| by_extension(p).is_some() || p.extension().is_some_and(|e| e == "pvd");
+    let is_file = |p: &Path| FORMATS.iter().any(|f| has_extension(p, f));
     match folder_hint::hint(path, is_frame, is_file) {
         Some(h) => format!("{base}; {h}"),
         None => base.to_string(),
