@@ -38,6 +38,24 @@ fn preview(rel: &str) -> SceneDesc {
     desc
 }
 
+/// `desc`'s pinholes where its particles hold film, printed under `label`: more than `least`
+/// pixels of film interior, and at most 0.02 % of them missing.
+fn pinholes_within_target(desc: &SceneDesc, label: &str, least: usize) {
+    let (positions, normals, own) = film_particles(desc, Path::new("")).unwrap();
+    let f = in_data(
+        desc,
+        &FilmSpan::new(&positions, &normals).with_own_radii(own),
+    );
+    eprintln!(
+        "{label}: {} of {} px, {:.4} %",
+        f.missing,
+        f.interior,
+        f.percent()
+    );
+    assert!(f.interior > least, "{label}: {} px", f.interior);
+    assert!(f.percent() <= 0.02, "{label}: {:.4} %", f.percent());
+}
+
 /// The pinholes of `desc`'s render where the particles, spanning `span`, hold film.
 fn in_data(desc: &SceneDesc, span: &FilmSpan) -> FrontLayer {
     let prepared = pipeline::prepare(desc, Path::new(""), false).unwrap();
@@ -96,17 +114,7 @@ fn no_crevices_open_beside_a_torn_rim() {
     // cut edges (the cut lines bound that corner themselves): 0.008 %.
     for (frame, least) in [("73", 30_000), ("46", 30_000)] {
         let desc = preview(&format!("thin-film-sph/bursting_bubble/{frame}"));
-        let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
-        let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
-        let f = in_data(&desc, &span);
-        eprintln!(
-            "bursting {frame}: {} of {} px, {:.4} %",
-            f.missing,
-            f.interior,
-            f.percent()
-        );
-        assert!(f.interior > least, "{frame}: {} px", f.interior);
-        assert!(f.percent() <= 0.02, "{frame}: {:.4} %", f.percent());
+        pinholes_within_target(&desc, &format!("bursting {frame}"), least);
     }
 }
 
@@ -120,17 +128,7 @@ fn no_slits_open_between_a_rolled_rims_shingled_disks() {
     // their cells by half the planes' separation times `GRAZING_TAN` (`pointcloud::fan`):
     // 0.009 %.
     let desc = preview("thin-film-sph/bursting_bubble/72");
-    let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
-    let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
-    let f = in_data(&desc, &span);
-    eprintln!(
-        "bursting 72: {} of {} px, {:.4} %",
-        f.missing,
-        f.interior,
-        f.percent()
-    );
-    assert!(f.interior > 25_000, "{} px", f.interior);
-    assert!(f.percent() <= 0.02, "{:.4} %", f.percent());
+    pinholes_within_target(&desc, "bursting 72", 25_000);
 }
 
 #[test]
@@ -169,15 +167,5 @@ fn the_mls_march_finds_a_crossing_past_a_seam_where_f_jumps() {
     // within one march step of the band's end: 10 pixels (0.018 %).
     let mut desc = preview("thin-film-sph/bursting_bubble/57");
     desc.film.primitive = Some("mls".into());
-    let (positions, normals, own) = film_particles(&desc, Path::new("")).unwrap();
-    let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
-    let f = in_data(&desc, &span);
-    eprintln!(
-        "bursting 57 mls: {} of {} px, {:.4} %",
-        f.missing,
-        f.interior,
-        f.percent()
-    );
-    assert!(f.interior > 30_000, "{} px", f.interior);
-    assert!(f.percent() <= 0.02, "{:.4} %", f.percent());
+    pinholes_within_target(&desc, "bursting 57 mls", 30_000);
 }
