@@ -1,6 +1,7 @@
 //! Rendering: camera, environment and area lights, prop materials, the film shader and the
 //! integrator.
 
+mod block;
 pub mod camera;
 mod droplet;
 pub mod env_sampling;
@@ -9,6 +10,7 @@ pub mod integrator;
 pub mod lights;
 mod liquid;
 pub mod material;
+mod pixel;
 pub mod presets;
 mod primary;
 pub mod props;
