@@ -99,45 +99,6 @@ fn tile_with(g: &DiskGeometry, cam: &Camera, t: usize, q: Query) -> (f32, u32, u
 
 const TILES: usize = W.div_ceil(TILE) * H.div_ceil(TILE);
 
-/// Traces one 16×16 tile as four 8×8 tiles through [`DiskGeometry::intersect_tile`] (one walk
-/// of the tree per 8×8 tile); the same sums as [`tile`].
-fn tile_shared(g: &DiskGeometry, cam: &Camera, t: usize) -> (f32, u32, u32) {
-    let (tx, ty) = (t % W.div_ceil(TILE), t / W.div_ceil(TILE));
-    let mut acc = (0.0, 0, 0);
-    let mut rays = Vec::with_capacity(64);
-    let mut hits = [None; 64];
-    for (sx, sy) in [(0, 0), (8, 0), (0, 8), (8, 8)] {
-        let (x0, y0) = (tx * TILE + sx, ty * TILE + sy);
-        rays.clear();
-        for y in y0..(y0 + 8).min(H) {
-            for x in x0..(x0 + 8).min(W) {
-                rays.push(cam.ray(x, y));
-            }
-        }
-        let out = &mut hits[..rays.len()];
-        g.intersect_tile(&rays, 0.0, f32::INFINITY, out);
-        for h in out.iter().flatten() {
-            acc.0 += h.thickness_nm;
-            acc.1 += 1;
-            acc.2 += h.coverage;
-        }
-    }
-    acc
-}
-
-fn frame_tiles_serial(g: &DiskGeometry, cam: &Camera) -> (f32, u32, u32) {
-    (0..TILES)
-        .map(|t| tile_shared(g, cam, t))
-        .fold((0.0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
-}
-
-fn frame_tiles_parallel(g: &DiskGeometry, cam: &Camera) -> (f32, u32, u32) {
-    (0..TILES)
-        .into_par_iter()
-        .map(|t| tile_shared(g, cam, t))
-        .reduce(|| (0.0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
-}
-
 fn frame_serial(g: &DiskGeometry, cam: &Camera) -> (f32, u32, u32) {
     (0..TILES)
         .map(|t| tile(g, cam, t))
@@ -163,11 +124,6 @@ fn benches(crit: &mut Criterion) {
     let build = t.elapsed().as_secs_f64();
     let cam = Camera::new();
     let (_, hits, cov) = frame_parallel(&g, &cam);
-    assert_eq!(
-        frame_tiles_parallel(&g, &cam).1,
-        hits,
-        "the tile query hits the pixels the layer query hits"
-    );
     eprintln!(
         "disk shell: build {build:.3} s (incl. input generation), {:.1} bytes/particle, \
          {hits} of {} pixels hit, mean coverage {:.2}",
@@ -177,18 +133,12 @@ fn benches(crit: &mut Criterion) {
     );
 
     // Throughput per CPU-second of this thread (robust when other processes share the cores).
-    let tiled: Query = |_, _, _, _| None;
     for (name, f) in [
         ("intersect", DiskGeometry::intersect as Query),
         ("intersect_single", DiskGeometry::intersect_single),
-        ("tile", tiled),
     ] {
         let c0 = thread_cpu_ns();
-        if name == "tile" {
-            black_box(frame_tiles_serial(&g, &cam));
-        } else {
-            black_box(frame_serial_with(&g, &cam, f));
-        }
+        black_box(frame_serial_with(&g, &cam, f));
         if let (Some(c0), Some(c1)) = (c0, thread_cpu_ns()) {
             let rate = (W * H) as f64 / ((c1 - c0) as f64 * 1e-9);
             eprintln!(
@@ -206,12 +156,6 @@ fn benches(crit: &mut Criterion) {
     });
     group.bench_function("disk_rayon", |b| {
         b.iter(|| black_box(frame_parallel(&g, &cam)))
-    });
-    group.bench_function("disk_tile_1thread", |b| {
-        b.iter(|| black_box(frame_tiles_serial(&g, &cam)))
-    });
-    group.bench_function("disk_tile_rayon", |b| {
-        b.iter(|| black_box(frame_tiles_parallel(&g, &cam)))
     });
     group.finish();
 }

@@ -13,11 +13,6 @@
 //!
 //! Leaves are tested four disks at a time (`disk4`, bit-identical to the scalar test); the hits
 //! are then handled one by one in slot order, exactly as the per-slot closures did.
-//!
-//! The layer's members are summed in slot order, whichever way they were found (candidates or
-//! second traversal) and in whatever order the leaves came, so the crossing is a function of
-//! the ray alone: the tile query (`disk_tile`), which offers each ray its leaves in the tile's
-//! order, gives the same crossing bit for bit.
 
 use super::blend::{LayerSum, kernel};
 use super::disks::DiskGeometry;
@@ -38,59 +33,12 @@ type DiskHit = (u32, f32, f32);
 
 /// What the single-pass layer search collected: the closest disk hit, the candidates for its
 /// layer, and whether they are complete (see the module docs).
-pub(super) struct LayerSearch {
-    best: Option<DiskHit>,
+struct LayerSearch {
+    best: DiskHit,
     cands: [DiskHit; MAX_CANDIDATES],
     nc: usize,
     overflow: bool,
     min_lim: f32,
-}
-
-impl LayerSearch {
-    /// Nothing found yet.
-    #[inline(always)]
-    pub(super) fn new() -> LayerSearch {
-        LayerSearch {
-            best: None,
-            cands: [(0u32, 0f32, 0f32); MAX_CANDIDATES],
-            nc: 0,
-            overflow: false,
-            min_lim: f32::INFINITY,
-        }
-    }
-
-    /// Takes the disk hit `(s, t, d2)` of `ray` found with the traversal's pruning distance
-    /// `lim` (lowered to the end of the band of a new closest hit, never beyond `t_max`).
-    #[inline(always)]
-    pub(super) fn offer(
-        &mut self,
-        g: &DiskGeometry,
-        ray: &Ray,
-        t_max: f32,
-        lim: &mut f32,
-        (s, t, d2): DiskHit,
-    ) {
-        // Inclusive of `lim` (ties with the closest hit), exclusive of `t_max`.
-        let hi = if *lim < t_max { lim.next_up() } else { t_max };
-        if t >= hi {
-            return;
-        }
-        let closer = self
-            .best
-            .is_none_or(|(bs, bt, _)| t < bt || (t == bt && g.bvh.lower_particle(s, bs)));
-        let candidate = if closer {
-            let d = &g.disks[s as usize];
-            *lim =
-                (t + LIMIT_SLACK * g.blend.band(d.radius, d.normal.dot(ray.dir).abs())).min(t_max);
-            self.min_lim = self.min_lim.min(*lim);
-            self.best.replace((s, t, d2))
-        } else {
-            Some((s, t, d2))
-        };
-        if let Some(c) = candidate {
-            self.overflow |= !push_candidate(&mut self.cands, &mut self.nc, c, *lim);
-        }
-    }
 }
 
 impl DiskGeometry {
@@ -98,7 +46,7 @@ impl DiskGeometry {
     /// `t_min < t < t_max` and calls `hit(slot, t, d2)` for each hit not cut off by the disk's
     /// edge cut, in slot order.
     #[inline(always)]
-    pub(super) fn disk_leaf(
+    fn disk_leaf(
         &self,
         ray: &Ray,
         r4: &Ray4,
@@ -151,40 +99,63 @@ impl DiskGeometry {
 
     /// The blended crossing of the closest disk layer (single pass, see the module docs).
     pub(super) fn disk_layer_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let mut search = self.search_layer(ray, t_min, t_max);
-        self.blend_layer(ray, t_min, t_max, &mut search)
+        let search = self.search_layer(ray, t_min, t_max)?;
+        Some(self.blend_layer(ray, t_min, t_max, &search))
     }
 
     /// One closest-hit traversal pruned at the end of the current closest hit's band, collecting
-    /// the other disk hits on the way.
+    /// the other disk hits on the way; `None` if no disk is hit.
     #[inline(always)]
-    fn search_layer(&self, ray: &Ray, t_min: f32, t_max: f32) -> LayerSearch {
-        let mut search = LayerSearch::new();
+    fn search_layer(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<LayerSearch> {
+        let mut min_lim = f32::INFINITY;
+        let mut best: Option<DiskHit> = None;
+        let mut cands = [(0u32, 0f32, 0f32); MAX_CANDIDATES];
+        let mut nc = 0usize;
+        let mut overflow = false;
         let r4 = Ray4::new(ray);
         // The packet test uses the query range (the band limit can grow within a leaf); the
-        // exact per-slot limit is applied in `offer`, as if each slot were tested on its own.
+        // exact per-slot limit is applied below, as if each slot were tested on its own.
         self.bvh
             .closest_leaves(ray, t_min, t_max, |first, count, lim| {
                 self.disk_leaf(ray, &r4, (first, count), t_min, t_max, |s, t, d2| {
-                    search.offer(self, ray, t_max, lim, (s, t, d2))
+                    let d = &self.disks[s as usize];
+                    // Inclusive of `lim` (ties with the closest hit), exclusive of `t_max`.
+                    let hi = if *lim < t_max { lim.next_up() } else { t_max };
+                    if t >= hi {
+                        return;
+                    }
+                    let closer = best.is_none_or(|(bs, bt, _)| {
+                        t < bt || (t == bt && self.bvh.lower_particle(s, bs))
+                    });
+                    let candidate = if closer {
+                        *lim = (t + LIMIT_SLACK
+                            * self.blend.band(d.radius, d.normal.dot(ray.dir).abs()))
+                        .min(t_max);
+                        min_lim = min_lim.min(*lim);
+                        best.replace((s, t, d2))
+                    } else {
+                        Some((s, t, d2))
+                    };
+                    if let Some(c) = candidate {
+                        overflow |= !push_candidate(&mut cands, &mut nc, c, *lim);
+                    }
                 });
             });
-        search
+        Some(LayerSearch {
+            best: best?,
+            cands,
+            nc,
+            overflow,
+            min_lim,
+        })
     }
 
     /// Blends the layer of the search's closest disk: the candidates within its band, or, when
-    /// they may be incomplete, the disks a second traversal of the band finds; `None` if the
-    /// search found no disk.
+    /// they may be incomplete, the disks a second traversal of the band finds.
     #[inline(always)]
-    pub(super) fn blend_layer(
-        &self,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-        search: &mut LayerSearch,
-    ) -> Option<SurfaceHit> {
+    fn blend_layer(&self, ray: &Ray, t_min: f32, t_max: f32, search: &LayerSearch) -> SurfaceHit {
         let order = &self.bvh.order;
-        let (slot0, t0, d2) = search.best?;
+        let (slot0, t0, d2) = search.best;
         let d0 = &self.disks[slot0 as usize];
         let mut sum = LayerSum::new(
             t0,
@@ -196,39 +167,40 @@ impl DiskGeometry {
         let band = self.blend.band(d0.radius, d0.normal.dot(ray.dir).abs());
         let t_end = (t0 + band).min(t_max);
         let min_dot = self.blend.min_normal_dot;
-        let in_layer = |s: u32| self.disks[s as usize].normal.dot(d0.normal).abs() > min_dot;
-        // The members, gathered in the candidate buffer (a second traversal's beyond its size
-        // in `spill`), then summed in slot order.
-        let mut spill = Vec::new();
-        let members: &mut [DiskHit] = if t_end <= t0 {
-            &mut []
-        } else if search.overflow || t_end > search.min_lim {
-            let span = (slot0, t0, t_end);
-            self.second_traversal(ray, t_min, span, in_layer, &mut search.cands, &mut spill)
-        } else {
-            let mut n = 0;
-            for i in 0..search.nc {
-                let c = search.cands[i];
-                if c.1 < t_end && in_layer(c.0) {
-                    search.cands[n] = c;
-                    n += 1;
+        let mut add = |s: u32, t: f32, d2: f32| {
+            let d = &self.disks[s as usize];
+            if d.normal.dot(d0.normal).abs() > min_dot {
+                sum.add(
+                    t,
+                    self.disk_normal_at(s, ray.at(t)),
+                    self.disk_thickness_at(s, ray.at(t)),
+                    order[s as usize],
+                    kernel(d2, d.radius * d.radius),
+                );
+            }
+        };
+        if t_end > t0 {
+            if search.overflow || t_end > search.min_lim {
+                self.bvh.visit_segment(ray, t0, t_end, |s| {
+                    let d = &self.disks[s as usize];
+                    if s != slot0
+                        && let Some((t, d2)) =
+                            intersect_disk(ray, d.center, d.normal, d.radius, t_min, t_end)
+                        && !self.cut_off(s, ray, t)
+                    {
+                        add(s, t, d2);
+                    }
+                });
+            } else {
+                for &(s, t, d2) in &search.cands[..search.nc] {
+                    if t < t_end {
+                        add(s, t, d2);
+                    }
                 }
             }
-            &mut search.cands[..n]
-        };
-        sort_by_slot(members);
-        for &(s, t, d2) in members.iter() {
-            let r = self.disks[s as usize].radius;
-            sum.add(
-                t,
-                self.disk_normal_at(s, ray.at(t)),
-                self.disk_thickness_at(s, ray.at(t)),
-                order[s as usize],
-                kernel(d2, r * r),
-            );
         }
         let b = sum.finish();
-        Some(SurfaceHit {
+        SurfaceHit {
             t: b.t,
             t_exit: b.t_exit,
             position: ray.at(b.t),
@@ -236,77 +208,7 @@ impl DiskGeometry {
             thickness_nm: b.thickness_nm,
             coverage: b.coverage,
             particle: b.particle,
-        })
-    }
-}
-
-impl DiskGeometry {
-    /// The layer members a second traversal of the band `t0 .. t_end` finds (besides `slot0`,
-    /// those `in_layer` accepts): in `buf`, or, beyond its size, all of them in `spill`.
-    fn second_traversal<'a>(
-        &self,
-        ray: &Ray,
-        t_min: f32,
-        (slot0, t0, t_end): (u32, f32, f32),
-        in_layer: impl Fn(u32) -> bool,
-        buf: &'a mut [DiskHit; MAX_CANDIDATES],
-        spill: &'a mut Vec<DiskHit>,
-    ) -> &'a mut [DiskHit] {
-        let mut n = 0;
-        self.bvh.visit_segment(ray, t0, t_end, |s| {
-            let d = &self.disks[s as usize];
-            if s != slot0
-                && let Some((t, d2)) =
-                    intersect_disk(ray, d.center, d.normal, d.radius, t_min, t_end)
-                && !self.cut_off(s, ray, t)
-                && in_layer(s)
-            {
-                if n < MAX_CANDIDATES {
-                    buf[n] = (s, t, d2);
-                    n += 1;
-                } else {
-                    spill.push((s, t, d2));
-                }
-            }
-        });
-        if spill.is_empty() {
-            &mut buf[..n]
-        } else {
-            spill.extend_from_slice(&buf[..n]);
-            spill
         }
-    }
-}
-
-#[cfg(test)]
-impl DiskGeometry {
-    /// True if the layer query of `ray` needs its second traversal (candidates incomplete).
-    pub(super) fn needs_second_traversal(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let search = self.search_layer(ray, t_min, t_max);
-        let Some((s, t0, _)) = search.best else {
-            return false;
-        };
-        let d = &self.disks[s as usize];
-        let t_end = (t0 + self.blend.band(d.radius, d.normal.dot(ray.dir).abs())).min(t_max);
-        t_end > t0 && (search.overflow || t_end > search.min_lim)
-    }
-}
-
-/// Sorts a layer's members by slot (an insertion sort: a layer holds ~4 members).
-#[inline(always)]
-fn sort_by_slot(m: &mut [DiskHit]) {
-    if m.len() > MAX_CANDIDATES {
-        m.sort_unstable_by_key(|h| h.0);
-        return;
-    }
-    for i in 1..m.len() {
-        let h = m[i];
-        let mut j = i;
-        while j > 0 && m[j - 1].0 > h.0 {
-            m[j] = m[j - 1];
-            j -= 1;
-        }
-        m[j] = h;
     }
 }
 

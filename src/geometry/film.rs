@@ -57,30 +57,6 @@ impl FilmGeometry {
         }
     }
 
-    /// [`FilmGeometry::intersect`] for each of `rays` into `out` (one entry per ray), the same
-    /// crossings: for disks [`DiskGeometry::intersect_tile`] (rays from one origin share one
-    /// walk of the tree, 64 at a time), for the others one ray at a time.
-    ///
-    /// # Panics
-    /// If `out` and `rays` differ in length.
-    pub fn intersect_tile(
-        &self,
-        rays: &[Ray],
-        t_min: f32,
-        t_max: f32,
-        out: &mut [Option<SurfaceHit>],
-    ) {
-        match self {
-            FilmGeometry::Disks(g) => g.intersect_tile(rays, t_min, t_max, out),
-            _ => {
-                assert_eq!(rays.len(), out.len(), "one output per ray");
-                for (r, o) in rays.iter().zip(out) {
-                    *o = self.intersect(r, t_min, t_max);
-                }
-            }
-        }
-    }
-
     /// The closest single element with `t_min < t < t_max`, without blending: for disks
     /// [`DiskGeometry::intersect_single`], for the others the same as
     /// [`FilmGeometry::intersect`].

@@ -26,7 +26,6 @@ mod bvh;
 mod bvh_build;
 mod disk4;
 mod disk_query;
-mod disk_tile;
 mod disks;
 mod droplets;
 mod film;
@@ -43,14 +42,12 @@ mod sphere4;
 mod spheres;
 mod tree;
 mod wide;
-mod wide_tile;
 
 use glam::Vec3;
 
 pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{BvhNode, BvhParams};
-pub use disk_tile::TILE_RAYS;
 pub use disks::DiskGeometry;
 pub use droplets::{DropletHit, Droplets, GrownDroplets, GrownHit, WATER_IOR};
 pub use film::FilmGeometry;

@@ -20,9 +20,9 @@ use super::{BvhNode, Ray};
 #[repr(C, align(64))]
 pub(crate) struct Node4 {
     /// `min_x, min_y, min_z, max_x, max_y, max_z`, one lane per child.
-    pub(super) bounds: [Vec4; 6],
-    pub(super) child: [u32; 4],
-    pub(super) count: [u32; 4],
+    bounds: [Vec4; 6],
+    child: [u32; 4],
+    count: [u32; 4],
 }
 
 const _: () = assert!(std::mem::size_of::<Node4>() == 128);
@@ -98,7 +98,7 @@ pub(crate) fn collapse(nodes: &[BvhNode]) -> (Vec<Node4>, usize) {
 
 /// Traversal stacks up to this size live in an array on the call stack; deeper trees (unusual
 /// inputs) use a heap-allocated stack.
-pub(super) const INLINE_STACK: usize = 64;
+const INLINE_STACK: usize = 64;
 
 /// A deferred child: node index or first slot, slot count (0 for a node), entry distance.
 #[derive(Clone, Copy, Default)]
@@ -110,7 +110,7 @@ pub(crate) struct Entry {
 
 /// The ray prepared for 4-lane slab tests: origin and inverse direction splatted, and the
 /// near and far bound planes per axis, chosen once by the direction's signs.
-pub(super) struct Slabs {
+struct Slabs {
     near: [usize; 3],
     far: [usize; 3],
     o: [Vec4; 3],
@@ -120,7 +120,7 @@ pub(super) struct Slabs {
 
 impl Slabs {
     #[inline(always)]
-    pub(super) fn new(ray: &Ray, t_min: f32) -> Slabs {
+    fn new(ray: &Ray, t_min: f32) -> Slabs {
         let inv = safe_inv_dir(ray.dir);
         let near = |a: usize, neg: bool| if neg { a + 3 } else { a };
         let near = [
@@ -141,7 +141,7 @@ impl Slabs {
     /// The children of `n` the ray enters within `[t_min, t_max]`: a lane mask and the entry
     /// distance per lane.
     #[inline(always)]
-    pub(super) fn test(&self, n: &Node4, t_max: f32) -> (u32, Vec4) {
+    fn test(&self, n: &Node4, t_max: f32) -> (u32, Vec4) {
         let b = &n.bounds;
         let ([nx, ny, nz], [fx, fy, fz]) = (self.near, self.far);
         let ([ox, oy, oz], [ix, iy, iz]) = (self.o, self.inv);
@@ -169,7 +169,7 @@ fn lane_key(t: f32, i: usize) -> u64 {
 /// The hit lanes of `mask` sorted by entry distance `tn`: a branch-free sorting network on
 /// [`lane_key`]s; the lane is `key & 3`, missed lanes sort last.
 #[inline(always)]
-pub(super) fn sort_lanes(tn: Vec4, mask: u32) -> [u64; 4] {
+fn sort_lanes(tn: Vec4, mask: u32) -> [u64; 4] {
     let key = |i: usize| {
         if mask & (1 << i) != 0 {
             lane_key(tn[i], i)

@@ -12,7 +12,6 @@
 //! once, generic over RGB and spectral radiance; `--shading spectral` runs the spectral
 //! instance, the other modes the RGB one.
 
-use super::pixel::{Pixel, Px, SubPixel};
 use super::primary::FirstHits;
 use super::radiance::{Lanes, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
@@ -161,13 +160,6 @@ fn render_tile(tracer: &Tracer, shader: &FilmShader, x0: usize, y0: usize) -> Ti
     let mut shading = SampleShading::default();
     let mut u = Vec::with_capacity(shader.randoms_per_sample());
     let mut tile = Tile::empty(x0, y0);
-    if super::block::applies(tracer) {
-        // Camera rays a block at a time (the same image).
-        let stop = || cancelled(settings);
-        (tile.pixels, tile.rays) =
-            super::block::tile_pixels(tracer, shader, (x0, y0), (x1, y1), stop);
-        return tile;
-    }
     tile.pixels.reserve((x1 - x0) * (y1 - y0));
     for y in y0..y1 {
         for x in x0..x1 {
@@ -225,6 +217,111 @@ fn cancelled(settings: &RenderSettings) -> bool {
         .cancel
         .as_ref()
         .is_some_and(|c| c.load(Ordering::Relaxed))
+}
+
+struct Px {
+    x: usize,
+    y: usize,
+    aspect: f32,
+}
+
+#[derive(Default)]
+struct Pixel {
+    rgb: Vec3,
+    alpha: f32,
+    depth: f32,
+    normal: Vec3,
+    thickness: f32,
+    hits: f32,
+    droplets: f32,
+    /// Σ share of the samples that saw a film first.
+    film: f32,
+}
+
+impl Pixel {
+    /// Adds one camera sample's radiance `c` and what it met first.
+    fn add(&mut self, c: Vec3, first: FirstHits) {
+        if let Some((hit, w)) = first.film {
+            self.film += w;
+            self.depth += w * hit.t;
+            self.normal += w * hit.normal;
+            self.thickness += w * hit.thickness_nm;
+            self.hits += w * hit.coverage as f32;
+        }
+        self.droplets += first.droplet;
+        self.depth += first.droplet_depth;
+        self.normal += first.droplet_normal;
+        // Drop non-finite samples rather than poison the pixel (pbrt does the same).
+        if c.is_finite() {
+            self.rgb += c;
+        }
+    }
+
+    /// Means over `spp` samples.
+    fn finish(&mut self, spp: u32) {
+        let inv = 1.0 / spp as f32;
+        self.rgb *= inv;
+        let seen = self.film + self.droplets;
+        self.alpha = (seen * inv).min(1.0);
+        self.droplets *= inv;
+        if seen > 0.0 {
+            self.depth /= seen;
+            self.normal /= seen;
+        }
+        if self.film > 0.0 {
+            self.thickness /= self.film;
+            self.hits /= self.film;
+        }
+    }
+}
+
+/// Sub-pixel positions of a pixel's samples: the centre for 1 spp, jittered strata for square
+/// counts, else the R2 low-discrepancy sequence (M. Roberts, "The unreasonable effectiveness
+/// of quasirandom sequences", 2018) shifted by one random offset per pixel.
+struct SubPixel {
+    spp: u32,
+    strata: u32,
+    square: bool,
+    r2_offset: (f32, f32),
+}
+
+impl SubPixel {
+    /// The pattern for `spp` samples (draws the R2 offset from `rng` when it is used).
+    fn new(spp: u32, rng: &mut Pcg32) -> Self {
+        let strata = (spp as f32).sqrt() as u32;
+        let square = strata * strata == spp;
+        let r2_offset = if spp > 1 && !square {
+            (rng.next_f32(), rng.next_f32())
+        } else {
+            (0.0, 0.0)
+        };
+        SubPixel {
+            spp,
+            strata,
+            square,
+            r2_offset,
+        }
+    }
+
+    /// Position in the pixel of sample `i`, each coordinate in [0, 1).
+    fn at(&self, i: u32, rng: &mut Pcg32) -> (f32, f32) {
+        let strata = self.strata;
+        if self.spp == 1 {
+            (0.5, 0.5)
+        } else if self.square {
+            let (a, b) = (i % strata, i / strata);
+            (
+                (a as f32 + rng.next_f32()) / strata as f32,
+                (b as f32 + rng.next_f32()) / strata as f32,
+            )
+        } else {
+            const R2: (f32, f32) = (0.754_877_7, 0.569_840_3);
+            (
+                (self.r2_offset.0 + i as f32 * R2.0).fract(),
+                (self.r2_offset.1 + i as f32 * R2.1).fract(),
+            )
+        }
+    }
 }
 
 fn render_pixel(

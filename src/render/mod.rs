@@ -1,7 +1,6 @@
 //! Rendering: camera, environment and area lights, prop materials, the film shader and the
 //! integrator.
 
-mod block;
 pub mod camera;
 mod droplet;
 pub mod env_sampling;
@@ -10,7 +9,6 @@ pub mod integrator;
 pub mod lights;
 mod liquid;
 pub mod material;
-mod pixel;
 pub mod presets;
 mod primary;
 pub mod props;

@@ -86,30 +86,6 @@ impl Tracer<'_> {
         (sum + c * rest, first)
     }
 
-    /// [`Tracer::camera_trace`] for a scene without droplets, given the camera ray's film
-    /// crossing `film` (what `geometry.intersect(ray, 0, ∞)` gives).
-    pub(super) fn camera_trace_past_film<L: Lanes>(
-        &self,
-        l: &L,
-        ray: &Ray,
-        st: &mut PathState,
-        film: Option<SurfaceHit>,
-    ) -> (L::C, FirstHits) {
-        debug_assert!(self.scene.staging.droplets.is_empty());
-        let behind = Branch {
-            ray,
-            t_min: 0.0,
-            depth: 0,
-            weight: L::C::splat(1.0),
-        };
-        let (c, hit) = self.nearest_past_film(l, behind, st, film);
-        let first = FirstHits {
-            film: hit.map(|h| (h, 1.0)),
-            ..FirstHits::default()
-        };
-        (L::C::splat(0.0) + c * 1.0, first)
-    }
-
     /// Distance along `ray` from `t_min` to the nearest film, prop or light (∞ if none).
     fn opaque_distance(&self, ray: &Ray, t_min: f32) -> f32 {
         let staging = &self.scene.staging;

@@ -156,19 +156,6 @@ impl<'a> Tracer<'a> {
         b: Branch<'_, L::C>,
         st: &mut PathState,
     ) -> (L::C, Option<SurfaceHit>) {
-        let film = self.scene.geometry.intersect(b.ray, b.t_min, f32::INFINITY);
-        self.nearest_past_film(l, b, st, film)
-    }
-
-    /// [`Tracer::nearest`] with the film crossing already found: `film` must be what
-    /// `geometry.intersect(ray, t_min, ∞)` gives (a tile of camera rays finds them together).
-    pub fn nearest_past_film<L: Lanes>(
-        &self,
-        l: &L,
-        b: Branch<'_, L::C>,
-        st: &mut PathState,
-        film: Option<SurfaceHit>,
-    ) -> (L::C, Option<SurfaceHit>) {
         let Branch {
             ray,
             t_min,
@@ -177,6 +164,7 @@ impl<'a> Tracer<'a> {
         } = b;
         st.rays += 1;
         let staging = &self.scene.staging;
+        let film = self.scene.geometry.intersect(ray, t_min, f32::INFINITY);
         let mut t_max = film.as_ref().map_or(f32::INFINITY, |h| h.t);
         let droplet = if staging.droplets.is_empty() {
             None
