@@ -24,7 +24,7 @@ fn inputs() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = [
         "tests/data/thin-film-sph/bursting_bubble/60",
         "tests/data/thin-film-sph/bursting_bubble/100",
-        "tests/data/melp/bubble",
+        "tests/data/melp/bubble/l_particles_0100.vtp",
         "tests/data/melp/foam3/50",
     ]
     .iter()

@@ -219,3 +219,34 @@ fn a_melp_frames_eulerian_and_lagrangian_files_together_draw_one_set() {
     ]);
     assert_eq!(note(&said), 0, "{said}");
 }
+
+#[test]
+fn a_melp_foam_folder_says_in_one_line_that_it_draws_the_lagrangian_set() {
+    // The folder holds both sets of every bubble (e_…_R and l_…_R); the film drawn is the
+    // Lagrangian one, and the render says so once, as for a pair of .vtp files.
+    let dir = data("melp/foam3/50");
+    let out = tmp("melp-foam-set.png");
+    let args = [
+        "render",
+        &dir,
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "32x24",
+    ];
+    let (code, stdout, said) = filmsplat(&[&args[..], &["--preset", "preview"]].concat());
+    assert_eq!(code, 0, "{said}");
+    assert!(stdout.is_empty(), "{stdout}");
+    let lines = |s: &str, what: &str| s.lines().filter(|l| l.contains(what)).count();
+    assert_eq!(
+        lines(&said, "Eulerian (e_) and Lagrangian (l_)"),
+        1,
+        "{said}"
+    );
+    assert!(said.contains("drawing the Lagrangian set only"), "{said}");
+    // info: one row for the Eulerian files, not one per file.
+    let (code, info, err) = filmsplat(&["info", &dir]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(lines(&info, "Eulerian particles"), 1, "{info}");
+    assert!(info.contains("e_*_R (12 files)"), "{info}");
+}

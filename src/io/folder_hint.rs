@@ -107,6 +107,14 @@ pub(crate) fn hint(
         "particle files"
     };
     let count = run.count;
+    if count == 1 {
+        // One frame: no sequence to name, and no "files … to …" range.
+        let one = what.trim_end_matches('s');
+        return Some(format!(
+            "it holds one numbered {one}: render it, '{}'",
+            dir.join(&first).display()
+        ));
+    }
     let gaps = if u128::from(hi - lo) + 1 == count as u128 {
         ""
     } else {
@@ -182,6 +190,16 @@ mod tests {
         );
         assert!(h.contains("2 numbered particle files"), "{h}");
         assert!(h.contains(&want), "{h}");
+    }
+
+    #[test]
+    fn a_single_numbered_file_is_named_as_one_file_not_a_sequence() {
+        // The project's tests/data/melp/bubble holds one frame's l_ and e_ files.
+        let d = dir_with(&["l_particles_0100.vtp", "e_particles_0100.vtp"], &[]);
+        let h = hint(d.path(), |_| true, vtp).unwrap();
+        let want = format!("'{}'", d.path().join("l_particles_0100.vtp").display());
+        assert!(h.contains("one numbered particle file:"), "{h}");
+        assert!(h.contains(&want) && !h.contains("--frames"), "{h}");
     }
 
     #[test]

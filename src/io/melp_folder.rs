@@ -50,6 +50,7 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
     opts.check()?;
     let mut regions: Vec<usize> = Vec::new();
     let mut skipped: Vec<StoredAttribute> = Vec::new();
+    let mut eulerian = 0usize;
     for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
         let entry = entry.map_err(|e| Error::io(dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
@@ -58,14 +59,25 @@ pub fn read_parts(dir: &Path, opts: &ReadOptions) -> Result<Vec<CloudPart>> {
             .and_then(|r| r.parse().ok())
         {
             regions.push(r);
-        } else if name.starts_with("e_") || name == "boundary_points" {
-            let what = if name.starts_with("e_") {
-                "Eulerian particles (the film resampled)"
-            } else {
-                "boundary particles"
-            };
-            skipped.push(StoredAttribute::new(&name, what, 0, AttributeRole::Skipped));
+        } else if name.starts_with("e_") {
+            eulerian += 1;
+        } else if name == "boundary_points" {
+            skipped.push(StoredAttribute::new(
+                &name,
+                "boundary particles",
+                0,
+                AttributeRole::Skipped,
+            ));
         }
+    }
+    if eulerian > 0 {
+        // One row for all of them: they are one thing (the film resampled), not attributes.
+        skipped.push(StoredAttribute::new(
+            &format!("e_*_R ({eulerian} files)"),
+            "Eulerian particles (the film resampled)",
+            0,
+            AttributeRole::Skipped,
+        ));
     }
     regions.sort_unstable();
     skipped.sort_by(|a, b| a.name.cmp(&b.name));

@@ -105,6 +105,20 @@ pub fn choose(paths: &[PathBuf], set: MelpSet) -> (Vec<PathBuf>, Option<String>)
     (keep, Some(note))
 }
 
+/// The one line a MELP foam folder holding both sets gets by default: the Lagrangian set
+/// (`l_…_R`, the film) is drawn, the Eulerian files (`e_…_R`, the same film resampled) are not.
+/// `None` if the folder holds no Eulerian file.
+pub fn folder_note(dir: &Path) -> Option<String> {
+    let has_eulerian = dir.join("e_tracker_points_0").is_file();
+    has_eulerian.then(|| {
+        format!(
+            "MELP: the Eulerian (e_) and Lagrangian (l_) particles of one film are both in {}: \
+             drawing the Lagrangian set only (a foam folder has no Eulerian choice)",
+            dir.display()
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
