@@ -22,7 +22,11 @@
 //! area-weighted mean (h_own + ρ·h_other) / (1 + ρ) with ρ = 1 (the writer's `sa_ratio`, the
 //! other copy's local area over the own, is 1 where both copies tile the wall, which is where a
 //! particle is taken as on it), h_other interpolated from the other copy; the other set's
-//! particles on that wall are removed. The rest of each bubble is left as it is.
+//! particles on that wall are removed. Towards a Plateau border, where fewer of a kept
+//! particle's neighbours lie on the wall, it is merged in proportion (moved that fraction of the
+//! way, thickness and normal blended as far), so the kept copy bends from the merged wall into
+//! its own outer film instead of stepping by half the gap; the other copy is removed only where
+//! the kept one is fully merged. The rest of each bubble is left as it is.
 
 use glam::Vec3;
 
@@ -181,10 +185,15 @@ impl<'a> Set<'a> {
         ))
     }
 
-    /// Which particles of this set lie on `other`'s sheet as one wall: those on it whose own
-    /// neighbours within `support` mostly pass the wall test (which fills the odd particle of a
-    /// wavy wall that fails it alone, and drops the odd one where two sheets merely cross).
-    fn on_wall(&self, other: &Set, support: f32, spacing: f32) -> Vec<Option<Facing>> {
+    /// Which particles of this set lie on `other`'s sheet as one wall, and the share of their
+    /// own neighbours within `support` that pass the wall test, as 2·(passing)/(all): above 1
+    /// where most pass (which fills the odd particle of a wavy wall that fails it alone, and
+    /// drops the odd one where two sheets merely cross). Towards a Plateau border, where the
+    /// wall bends into the outer films, half a particle's neighbours or more may lie across the
+    /// border; such particles, left where they were, stood up to a centimetre off their moved
+    /// neighbours and drew pale scallops and a second rim along the border (MELP's double
+    /// bubble, frame 40), so the kept copy is merged by this share (capped at 1).
+    fn on_wall(&self, other: &Set, support: f32, spacing: f32) -> Vec<Option<(Facing, f32)>> {
         let found: Vec<Option<(Facing, bool)>> = (0..self.cloud.len())
             .map(|i| {
                 let p = self.cloud.positions[i];
@@ -197,12 +206,12 @@ impl<'a> Set<'a> {
                 let p = self.cloud.positions[i];
                 let near = self.index.nearest_excluding(p, NEIGHBOURS, u32::MAX);
                 let (mut yes, mut all) = (0, 0);
-                for (j, d) in near.into_iter().filter(|(_, d)| *d <= support) {
-                    let _ = d;
+                for (j, _) in near.into_iter().filter(|(_, d)| *d <= support) {
                     all += 1;
                     yes += usize::from(found[j as usize].is_some_and(|(_, w)| w));
                 }
-                (2 * yes > all).then_some(f)
+                let share = (2 * yes) as f32 / all.max(1) as f32;
+                (yes > 0).then_some((f, share))
             })
             .collect()
     }
@@ -270,8 +279,9 @@ fn bounds_meet(a: &PointCloud, b: &PointCloud) -> bool {
 }
 
 /// A particle of the kept copy settled on the merged wall: its index, the other copy as it sees
-/// it, and the plane its own copy's positions give it.
-type Settle = (usize, Facing, Vec3);
+/// it, the plane its own copy's positions give it, and how far it is merged (0–1, see
+/// [`Set::on_wall`]).
+type Settle = (usize, Facing, Vec3, f32);
 
 /// Merges the wall of sets `a` (kept) and `b` (removed), if they share one.
 fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
@@ -286,17 +296,17 @@ fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
             .on_wall(&sb, support, spacing)
             .into_iter()
             .enumerate()
-            .filter_map(|(i, f)| f.map(|f| (i, f, sa.plane[i])))
+            .filter_map(|(i, f)| f.map(|(f, share)| (i, f, sa.plane[i], share.min(1.0))))
             .collect();
         let on: Vec<bool> = sb
             .on_wall(&sa, support, spacing)
             .iter()
-            .map(Option::is_some)
+            .map(|f| f.is_some_and(|(_, share)| share > 1.0))
             .collect();
         (moves, sb.inside(&on, spacing))
     };
     let removed = drop.iter().filter(|d| **d).count();
-    if moves.is_empty() || removed == 0 {
+    if moves.iter().all(|m| m.3 < 1.0) || removed == 0 {
         return None;
     }
     let stats = settle_on_wall(&mut sets[a], &moves)?;
@@ -308,7 +318,7 @@ fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
     Some(Wall {
         kept: a,
         removed: b,
-        kept_particles: moves.len(),
+        kept_particles: stats.len(),
         removed_particles: removed,
         gap: column(0),
         kept_nm: column(1),
@@ -318,19 +328,24 @@ fn merge_pair(sets: &mut [PointCloud], a: usize, b: usize) -> Option<Wall> {
 }
 
 /// Moves the particles of `settle` to the middle of the two copies, facing across the wall,
-/// with the copies' mean thickness; returns per particle the copies' distance and its
-/// thickness before, the other copy's and the merged one (`None` without thickness).
+/// with the copies' mean thickness, each by its share (position, normal and thickness
+/// blended from where it was by that fraction); returns per fully merged particle the copies'
+/// distance and its thickness before, the other copy's and the merged one (`None` without
+/// thickness).
 fn settle_on_wall(cloud: &mut PointCloud, settle: &[Settle]) -> Option<Vec<[f32; 4]>> {
     let mut stats = Vec::with_capacity(settle.len());
-    for (i, f, own) in settle {
+    for &(i, f, own, share) in settle {
         if let Some(n) = cloud.normals.as_mut() {
-            n[*i] = wall_normal(*own, f.normal, n[*i]);
+            let wall = wall_normal(own, f.normal, n[i]);
+            n[i] = n[i].normalize_or(wall).lerp(wall, share).normalize_or(wall);
         }
         let t = cloud.thickness_nm.as_mut()?;
-        let merged = 0.5 * (t[*i] + f.thickness);
-        stats.push([f.gap.abs(), t[*i], f.thickness, merged]);
-        t[*i] = merged;
-        cloud.positions[*i] += 0.5 * f.gap * f.normal;
+        let merged = 0.5 * (t[i] + f.thickness);
+        if share >= 1.0 {
+            stats.push([f.gap.abs(), t[i], f.thickness, merged]);
+        }
+        t[i] += share * (merged - t[i]);
+        cloud.positions[i] += share * 0.5 * f.gap * f.normal;
     }
     Some(stats)
 }
