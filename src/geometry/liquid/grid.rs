@@ -226,20 +226,14 @@ mod tests {
 
     /// A jittered 8×8×8 block of spacing 1 and a ball of water: rays from all round.
     fn bodies() -> Vec<Vec<Vec3>> {
-        let mut seed = 7u32;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32 - 0.5
-        };
+        let mut rnd = crate::geometry::ray4::test_rng(7);
         let mut block = Vec::new();
         let mut ball = Vec::new();
         for z in 0..8 {
             for y in 0..8 {
                 for x in 0..8 {
                     let p = Vec3::new(x as f32, y as f32, z as f32);
-                    block.push(p + 0.25 * Vec3::new(rnd(), rnd(), rnd()));
+                    block.push(p + 0.125 * Vec3::new(rnd(), rnd(), rnd()));
                 }
             }
         }
@@ -248,7 +242,7 @@ mod tests {
                 for x in -6..=6 {
                     let p = Vec3::new(x as f32, y as f32, z as f32);
                     if p.length() <= 6.0 {
-                        ball.push(p + 0.25 * Vec3::new(rnd(), rnd(), rnd()));
+                        ball.push(p + 0.125 * Vec3::new(rnd(), rnd(), rnd()));
                     }
                 }
             }

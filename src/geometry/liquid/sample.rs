@@ -239,24 +239,18 @@ mod tests {
 
     /// A jittered 5×5×5 block and a few lone particles, spacing 1.
     fn cloud() -> Vec<Vec3> {
-        let mut seed = 11u32;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32 - 0.5
-        };
+        let mut rnd = crate::geometry::ray4::test_rng(11);
         let mut pts = Vec::new();
         for z in 0..5 {
             for y in 0..5 {
                 for x in 0..5 {
                     let p = Vec3::new(x as f32, y as f32, z as f32);
-                    pts.push(p + 0.3 * Vec3::new(rnd(), rnd(), rnd()));
+                    pts.push(p + 0.15 * Vec3::new(rnd(), rnd(), rnd()));
                 }
             }
         }
         for i in 0..8 {
-            pts.push(Vec3::new(9.0 + 3.1 * i as f32, 20.0 * rnd(), 20.0 * rnd()));
+            pts.push(Vec3::new(9.0 + 3.1 * i as f32, 10.0 * rnd(), 10.0 * rnd()));
         }
         pts
     }
