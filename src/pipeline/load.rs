@@ -83,14 +83,8 @@ pub fn load_parts(desc: &SceneDesc, base: &Path) -> Result<Vec<CloudPart>> {
     let folder = paths
         .iter()
         .find(|p| crate::io::melp_folder::is_melp_folder(&base.join(p)));
-    match folder {
-        Some(f) if set != super::melp_sets::MelpSet::Lagrangian => notes.push(format!(
-            "{}: a MELP foam folder is read as its Lagrangian set (input.melp_set / --melp-set \
-             chooses between e_ and l_ .vtp files)",
-            base.join(f).display()
-        )),
-        Some(f) => notes.extend(super::melp_sets::folder_note(&base.join(f))),
-        None => {}
+    if let Some(f) = folder {
+        notes.extend(super::melp_sets::folder_note(&base.join(f), set));
     }
     let mut parts = Vec::new();
     for p in paths {

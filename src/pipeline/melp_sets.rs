@@ -105,10 +105,18 @@ pub fn choose(paths: &[PathBuf], set: MelpSet) -> (Vec<PathBuf>, Option<String>)
     (keep, Some(note))
 }
 
-/// The one line a MELP foam folder holding both sets gets by default: the Lagrangian set
-/// (`l_…_R`, the film) is drawn, the Eulerian files (`e_…_R`, the same film resampled) are not.
-/// `None` if the folder holds no Eulerian file.
-pub fn folder_note(dir: &Path) -> Option<String> {
+/// The one line a MELP foam folder gets: a folder is always read as its Lagrangian set
+/// (`l_…_R`, the film), so a `set` other than that is not applied; by default, the line says
+/// the Eulerian files (`e_…_R`, the same film resampled) are not drawn (`None` if there are
+/// none).
+pub fn folder_note(dir: &Path, set: MelpSet) -> Option<String> {
+    if set != MelpSet::Lagrangian {
+        return Some(format!(
+            "{}: a MELP foam folder is read as its Lagrangian set (input.melp_set / --melp-set \
+             chooses between e_ and l_ .vtp files)",
+            dir.display()
+        ));
+    }
     let has_eulerian = dir.join("e_tracker_points_0").is_file();
     has_eulerian.then(|| {
         format!(
