@@ -244,6 +244,20 @@ fn a_melp_foam_folder_says_in_one_line_that_it_draws_the_lagrangian_set() {
         "{said}"
     );
     assert!(said.contains("drawing the Lagrangian set only"), "{said}");
+    // Another set asked for: the folder is still read as its Lagrangian set, and says so once.
+    let eulerian = [
+        &args[..],
+        &["--preset", "preview", "--melp-set", "eulerian"],
+    ]
+    .concat();
+    let (code, _, said) = filmsplat(&eulerian);
+    assert_eq!(code, 0, "{said}");
+    assert_eq!(lines(&said, "read as its Lagrangian set"), 1, "{said}");
+    assert_eq!(
+        lines(&said, "Eulerian (e_) and Lagrangian (l_)"),
+        0,
+        "{said}"
+    );
     // info: one row for the Eulerian files, not one per file.
     let (code, info, err) = filmsplat(&["info", &dir]);
     assert_eq!(code, 0, "{err}");
