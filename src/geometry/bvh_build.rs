@@ -2,17 +2,19 @@
 //!
 //! Each node bins its primitives' centroids into `bins` buckets on all three axes in one pass,
 //! sweeps the buckets for the cheapest surface-area-heuristic split, partitions in place and
-//! recurses; child bounds come from the bucket sums and child centroid bounds from the partition
-//! pass, so every level costs one binning pass and one partition pass. Nodes with many primitives recurse in parallel (`rayon::join`); the right
+//! recurses (the pieces are in `bvh_bins`); child bounds come from the bucket sums and child
+//! centroid bounds from the partition pass, so every level costs one binning pass and one
+//! partition pass. Nodes with many primitives recurse in parallel (`rayon::join`); the right
 //! subtree is then built into its own vector and appended with its child offsets shifted, which
 //! keeps the output depth-first. Deeper than [`MAX_SAH_DEPTH`] (pathological inputs) nodes fall
 //! back to median splits, bounding the tree depth for the fixed traversal stack.
 
-use glam::{UVec3, Vec3A};
+use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::Aabb;
 use super::bvh::{BvhNode, BvhParams, STACK_SIZE};
+use super::bvh_bins::{Box3, Prims, best_binned_split, bin_coords, partition};
 
 /// Depth after which nodes are split at the object median instead of by SAH.
 pub(crate) const MAX_SAH_DEPTH: usize = 48;
@@ -21,46 +23,6 @@ const _: () = assert!(MAX_SAH_DEPTH + 34 < STACK_SIZE);
 /// Nodes with at most this many primitives bin into 8 buckets instead of [`BvhParams::bins`].
 const SMALL_NODE: usize = 64;
 
-/// A SIMD box used during the build.
-#[derive(Clone, Copy)]
-struct Box3 {
-    min: Vec3A,
-    max: Vec3A,
-}
-
-impl Box3 {
-    const EMPTY: Box3 = Box3 {
-        min: Vec3A::INFINITY,
-        max: Vec3A::NEG_INFINITY,
-    };
-
-    #[inline(always)]
-    fn union(self, o: Box3) -> Box3 {
-        Box3 {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
-    }
-
-    #[inline(always)]
-    fn grow(&mut self, p: Vec3A) {
-        self.min = self.min.min(p);
-        self.max = self.max.max(p);
-    }
-
-    #[inline(always)]
-    fn area(self) -> f32 {
-        let e = (self.max - self.min).max(Vec3A::ZERO);
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-
-    /// Twice the centroid (binning only needs an affine image of it).
-    #[inline(always)]
-    fn c2(self) -> Vec3A {
-        self.min + self.max
-    }
-}
-
 /// A chosen split: primitives `[..mid]` go left; (bounds, centroid bounds) of each side.
 struct Split {
     mid: usize,
@@ -68,27 +30,13 @@ struct Split {
     right: (Box3, Box3),
 }
 
-/// Primitive boxes and their original indices, permuted together by the partitions.
-struct Prims<'a> {
-    boxes: &'a mut [Box3],
-    ids: &'a mut [u32],
-}
-
-impl Prims<'_> {
-    fn len(&self) -> usize {
-        self.boxes.len()
-    }
-
-    fn split_at(self, mid: usize) -> (Self, Self) {
-        let (bl, br) = self.boxes.split_at_mut(mid);
-        let (il, ir) = self.ids.split_at_mut(mid);
-        (Prims { boxes: bl, ids: il }, Prims { boxes: br, ids: ir })
-    }
-}
-
-/// Builds nodes and the slot order for `bounds`.
-pub(crate) fn build(bounds: &[Aabb], params: BvhParams) -> (Vec<BvhNode>, Vec<u32>) {
-    let n = bounds.len();
+/// Builds nodes and the slot order for `n` primitives whose boxes are `bound(i)` (each called
+/// once, in parallel).
+pub(crate) fn build(
+    n: usize,
+    bound: impl Fn(usize) -> Aabb + Sync,
+    params: BvhParams,
+) -> (Vec<BvhNode>, Vec<u32>) {
     if n == 0 {
         return (Vec::new(), Vec::new());
     }
@@ -98,11 +46,14 @@ pub(crate) fn build(bounds: &[Aabb], params: BvhParams) -> (Vec<BvhNode>, Vec<u3
         traversal_cost: params.traversal_cost.max(0.0),
         parallel_threshold: params.parallel_threshold.max(64),
     };
-    let mut boxes: Vec<Box3> = bounds
-        .par_iter()
-        .map(|b| Box3 {
-            min: b.min.into(),
-            max: b.max.into(),
+    let mut boxes: Vec<Box3> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let b = bound(i);
+            Box3 {
+                min: b.min.into(),
+                max: b.max.into(),
+            }
         })
         .collect();
     let mut ids: Vec<u32> = (0..n as u32).collect();
@@ -156,6 +107,10 @@ fn build_node(
     }
     let mut prims = prims;
     let Some(split) = choose_split(params, &mut prims, &bounds, &cbounds, depth) else {
+        // A leaf lists its primitives in input order, so what a query meets (and the order in
+        // which blended layers sum) depends on the tree's shape, not on how the partitions
+        // happened to shuffle the leaf.
+        prims.ids.sort_unstable();
         return;
     };
     let (lp, rp) = prims.split_at(split.mid);
@@ -229,109 +184,18 @@ fn choose_split(
     if n <= params.max_leaf && n as f32 <= split_cost {
         return None;
     }
-    let (axis, k, c0, s, nb) = (best.axis, best.k, cbounds.min, best.scale, best.nb);
-    let (mid, lc, rc) = partition(prims, |c| (((c - c0) * s)[axis] as usize).min(nb - 1) < k);
+    let (axis, c0, s, top) = (best.axis, cbounds.min, best.scale, best.top);
+    let k = Vec3A::splat(best.k as f32);
+    // The binning's own test: floor(x) < k exactly when x < k (x ≥ 0, k whole).
+    let (mid, lc, rc) = partition(prims, |c| {
+        (bin_coords(c, c0, s, top).cmplt(k).bitmask() >> axis) & 1 == 1
+    });
     debug_assert_eq!(mid, best.left_count);
     Some(Split {
         mid,
         left: (best.left, lc),
         right: (best.right, rc),
     })
-}
-
-/// The cheapest SAH split found by binning.
-struct BinnedSplit {
-    cost: f32,
-    axis: usize,
-    k: usize,
-    nb: usize,
-    scale: Vec3A,
-    left: Box3,
-    right: Box3,
-    left_count: usize,
-}
-
-/// Bins centroids into `NB` buckets on all three axes and sweeps for the cheapest split
-/// (unnormalised cost `area_left · n_left + area_right · n_right`).
-#[inline(always)]
-fn best_binned_split<const NB: usize>(boxes: &[Box3], cbounds: &Box3) -> Option<BinnedSplit> {
-    let n = boxes.len();
-    let ext = cbounds.max - cbounds.min;
-    let scale = Vec3A::select(ext.cmpgt(Vec3A::ZERO), NB as f32 / ext, Vec3A::ZERO);
-    let cmin = cbounds.min;
-    let mut bins = [[Box3::EMPTY; NB]; 3];
-    let mut counts = [[0u32; NB]; 3];
-    let top = UVec3::splat(NB as u32 - 1);
-    for b in boxes {
-        let k = ((b.c2() - cmin) * scale).as_uvec3().min(top);
-        for axis in 0..3 {
-            let k = k[axis] as usize;
-            bins[axis][k] = bins[axis][k].union(*b);
-            counts[axis][k] += 1;
-        }
-    }
-    let mut best: Option<(f32, usize, usize, usize)> = None; // (cost, axis, k, left count)
-    for axis in 0..3 {
-        let spread = ext[axis] > 0.0;
-        if !spread {
-            continue;
-        }
-        let (bins, counts) = (&bins[axis], &counts[axis]);
-        let mut right_cost = [0f32; NB];
-        let mut acc = Box3::EMPTY;
-        let mut cnt = 0u32;
-        for k in (1..NB).rev() {
-            acc = acc.union(bins[k]);
-            cnt += counts[k];
-            right_cost[k] = acc.area() * cnt as f32;
-        }
-        let mut acc = Box3::EMPTY;
-        let mut cnt = 0usize;
-        for k in 1..NB {
-            acc = acc.union(bins[k - 1]);
-            cnt += counts[k - 1] as usize;
-            if cnt == 0 || cnt == n {
-                continue;
-            }
-            let cost = acc.area() * cnt as f32 + right_cost[k];
-            if best.is_none_or(|b| cost < b.0) {
-                best = Some((cost, axis, k, cnt));
-            }
-        }
-    }
-    let (cost, axis, k, left_count) = best?;
-    let sum = |bins: &[Box3]| bins.iter().fold(Box3::EMPTY, |a, b| a.union(*b));
-    Some(BinnedSplit {
-        cost,
-        axis,
-        k,
-        nb: NB,
-        scale,
-        left: sum(&bins[axis][..k]),
-        right: sum(&bins[axis][k..]),
-        left_count,
-    })
-}
-
-/// In-place partition by centroid; returns the number of primitives satisfying `pred` (now at
-/// the front) and the centroid bounds of both sides.
-#[inline(always)]
-fn partition(prims: &mut Prims<'_>, pred: impl Fn(Vec3A) -> bool) -> (usize, Box3, Box3) {
-    let (mut lc, mut rc) = (Box3::EMPTY, Box3::EMPTY);
-    let (mut i, mut j) = (0, prims.len());
-    while i < j {
-        let c = prims.boxes[i].c2();
-        if pred(c) {
-            lc.grow(c);
-            i += 1;
-        } else {
-            rc.grow(c);
-            j -= 1;
-            prims.boxes.swap(i, j);
-            prims.ids.swap(i, j);
-        }
-    }
-    (i, lc, rc)
 }
 
 /// Object-median split along the widest centroid axis (any halving if all centroids coincide).

@@ -23,6 +23,7 @@
 mod aabb;
 mod blend;
 mod bvh;
+mod bvh_bins;
 mod bvh_build;
 mod disk4;
 mod disk_query;

@@ -5,6 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::bvh::BvhParams;
 use super::ray4::PAD;
 use super::{Aabb, Bvh};
 use crate::{Error, Result};
@@ -49,11 +50,8 @@ pub(super) fn particle_bvh(
     reach: impl Fn(usize) -> f32 + Sync,
     bounds: impl Fn(usize) -> Aabb + Sync,
 ) -> Bvh {
-    let boxes: Vec<Aabb> = (0..n)
-        .into_par_iter()
-        .map(|i| bounds(i).padded((centre(i).abs().max_element() + reach(i)) * BOUNDS_PAD))
-        .collect();
-    Bvh::build(&boxes)
+    let padded = |i| bounds(i).padded((centre(i).abs().max_element() + reach(i)) * BOUNDS_PAD);
+    Bvh::build_by(n, padded, BvhParams::default())
 }
 
 /// `make(particle)` for every slot of `order`, then [`PAD`] copies of `pad` (so a four-wide

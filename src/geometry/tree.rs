@@ -41,7 +41,17 @@ impl Bvh {
 
     /// Builds with explicit parameters (see [`Bvh::build`]).
     pub fn build_with(bounds: &[Aabb], params: BvhParams) -> Bvh {
-        let (nodes, order) = super::bvh_build::build(bounds, params);
+        Self::build_by(bounds.len(), |i| bounds[i], params)
+    }
+
+    /// Builds over `n` primitives whose boxes are `bound(i)` (called once each, in parallel),
+    /// without a slice of boxes in between (see [`Bvh::build`]).
+    pub(crate) fn build_by(
+        n: usize,
+        bound: impl Fn(usize) -> Aabb + Sync,
+        params: BvhParams,
+    ) -> Bvh {
+        let (nodes, order) = super::bvh_build::build(n, bound, params);
         let (wide, wide_stack) = super::wide::collapse(&nodes);
         Bvh {
             nodes,
