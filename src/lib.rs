@@ -39,6 +39,7 @@ pub mod mix;
 pub mod optics;
 pub mod pipeline;
 pub mod pointcloud;
+pub mod prefetch;
 pub mod render;
 pub mod samples;
 pub mod scene;

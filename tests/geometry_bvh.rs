@@ -186,6 +186,7 @@ fn bvh_matches_brute_force() {
                     if s.prim == Primitive::Sphere {
                         let n = (ray.at(t) - s.pos[i as usize]) / s.rad[i as usize];
                         assert!((h.normal - n).length() < 1e-3, "{}", ctx());
+                        assert_eq!(h.thickness_nm, s.thk[i as usize], "{}", ctx());
                     }
                 }
                 (b, h) => panic!("{}: brute {b:?} vs bvh {h:?}", ctx()),

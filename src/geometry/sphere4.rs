@@ -9,23 +9,40 @@ use glam::{BVec4A, Mat4, Vec3, Vec4};
 
 use super::ray4::{Ray4, lane_mask};
 
-/// A sphere in slot order (20 bytes). The array is followed by [`PAD`](super::ray4::PAD)
-/// [`PAD_SPHERE`]s.
+/// Four spheres in structure-of-arrays form, one 64-byte cache line: the matrix's columns are
+/// the centres' x, y, z and the radii (lane `i` a sphere), as [`Ray4::sphere_roots4`] reads
+/// them, so a leaf's packet is one aligned load per column and no transpose. Unused lanes hold
+/// [`PAD_SPHERE4`]'s NaN centre, which no ray hits.
 #[derive(Clone, Copy, Debug)]
-#[repr(C)]
-pub(super) struct SpherePrim {
-    pub center: Vec3,
-    pub radius: f32,
-    pub thickness: f32,
-}
+#[repr(C, align(64))]
+pub(super) struct Sphere4(pub Mat4);
 
-/// Spheres the slot array is padded with, so a packet starting at any slot can read four: a
-/// NaN centre, which no ray hits.
-pub(super) const PAD_SPHERE: SpherePrim = SpherePrim {
-    center: Vec3::NAN,
-    radius: 0.0,
-    thickness: 0.0,
-};
+const _: () = assert!(std::mem::size_of::<Sphere4>() == 64);
+
+/// A packet of four padding spheres: NaN centres, radius 0.
+pub(super) const PAD_SPHERE4: Sphere4 =
+    Sphere4(Mat4::from_cols(Vec4::NAN, Vec4::NAN, Vec4::NAN, Vec4::ZERO));
+
+impl Sphere4 {
+    /// Lane `lane`'s centre and radius.
+    #[inline(always)]
+    pub fn sphere(&self, lane: usize) -> (Vec3, f32) {
+        let m = &self.0;
+        (
+            Vec3::new(m.x_axis[lane], m.y_axis[lane], m.z_axis[lane]),
+            m.w_axis[lane],
+        )
+    }
+
+    /// Puts a sphere into lane `lane`.
+    pub fn set(&mut self, lane: usize, center: Vec3, radius: f32) {
+        let m = &mut self.0;
+        m.x_axis[lane] = center.x;
+        m.y_axis[lane] = center.y;
+        m.z_axis[lane] = center.z;
+        m.w_axis[lane] = radius;
+    }
+}
 
 /// Four rays' roots with four spheres ([`Ray4::sphere_roots4`]), lane `i` sphere `i`.
 pub(crate) struct Roots4 {
@@ -70,31 +87,23 @@ impl Ray4 {
         }
     }
 
-    /// The first crossing with `t_min < t < t_max` of each of the spheres `spheres[0..4]` (the
+    /// The first crossing with `t_min < t < t_max` of each of the four spheres of `packet` (the
     /// entry point, or the exit point for a ray starting inside), and a bit mask (bit `i` for
     /// lane `i`) of the lanes that have one; lanes at or beyond `lanes` are masked off.
     #[inline(always)]
     pub fn test_spheres(
         &self,
-        spheres: &[SpherePrim; 4],
+        packet: &Sphere4,
         lanes: usize,
         t_min: f32,
         t_max: f32,
     ) -> (Vec4, u32) {
-        let cr = |s: &SpherePrim| Vec4::new(s.center.x, s.center.y, s.center.z, s.radius);
-        let c = Mat4::from_cols(
-            cr(&spheres[0]),
-            cr(&spheres[1]),
-            cr(&spheres[2]),
-            cr(&spheres[3]),
-        )
-        .transpose();
         let Roots4 {
             t0: ta,
             t1: tb,
             real,
             ..
-        } = self.sphere_roots4(&c);
+        } = self.sphere_roots4(&packet.0);
         let (t0, t1) = (ta.min(tb), ta.max(tb));
         let (lo, hi) = (Vec4::splat(t_min), Vec4::splat(t_max));
         let in0 = t0.cmpgt(lo) & t0.cmplt(hi);
@@ -119,13 +128,17 @@ mod tests {
         let mut rnd = test_rng(0x9e37_79b9);
         let mut hits = 0;
         for k in 0..4000 {
-            let spheres = test_packet(k, PAD_SPHERE, || SpherePrim {
-                center: Vec3::new(rnd(), rnd(), rnd()) * 0.3,
-                radius: 0.05 + 0.3 * rnd().abs(),
-                thickness: 0.0,
+            let spheres = test_packet(k, (Vec3::NAN, 0.0), || {
+                (
+                    Vec3::new(rnd(), rnd(), rnd()) * 0.3,
+                    0.05 + 0.3 * rnd().abs(),
+                )
             });
-            let c = spheres[k % 2].center;
-            let r = spheres[k % 2].radius;
+            let mut packet = PAD_SPHERE4;
+            for (lane, &(center, radius)) in spheres.iter().enumerate() {
+                packet.set(lane, center, radius);
+            }
+            let (c, r) = spheres[k % 2];
             let (origin, dir) = match k % 4 {
                 // From inside.
                 0 => (
@@ -143,14 +156,14 @@ mod tests {
             let ray = Ray::new(origin, dir);
             let (t_min, t_max) = if k % 3 == 0 { (0.1, 2.0) } else { (0.0, 10.0) };
             let lanes = 1 + k % 4;
-            let (t, mask) = Ray4::new(&ray).test_spheres(&spheres, lanes, t_min, t_max);
+            let (t, mask) = Ray4::new(&ray).test_spheres(&packet, lanes, t_min, t_max);
             hits += assert_lanes_match(
                 k,
                 lanes,
                 |i| (mask & (1 << i) != 0).then(|| t[i].to_bits()),
                 |i| {
-                    let p = &spheres[i];
-                    intersect_sphere(&ray, p.center, p.radius, t_min, t_max).map(f32::to_bits)
+                    let (center, radius) = spheres[i];
+                    intersect_sphere(&ray, center, radius, t_min, t_max).map(f32::to_bits)
                 },
             );
         }

@@ -12,6 +12,7 @@ use glam::Vec4;
 
 use super::aabb::{SLAB_ROBUST, safe_inv_dir};
 use super::{BvhNode, Ray};
+use crate::prefetch::prefetch_read;
 
 /// One 4-wide node (128 bytes, two cache lines). Lane `i` is empty (its box is inverted, so
 /// every slab test misses it), a leaf (`count[i] > 0`, slots `child[i] .. child[i] + count[i]`)
@@ -94,6 +95,21 @@ pub(crate) fn collapse(nodes: &[BvhNode]) -> (Vec<Node4>, usize) {
     }
     // Each node on the path defers at most three siblings.
     (out, 3 * depth + 1)
+}
+
+/// A copy of `nodes` whose leaves start at `first(slot)` instead of their first slot `slot`
+/// (counts and interior lanes unchanged), for a caller that stores its primitives in another
+/// layout than the slot order (the spheres' leaf-aligned packets). Cost: O(nodes).
+pub(crate) fn remap_leaves(nodes: &[Node4], first: impl Fn(u32) -> u32) -> Vec<Node4> {
+    let mut out = nodes.to_vec();
+    for n in &mut out {
+        for lane in 0..4 {
+            if n.count[lane] > 0 {
+                n.child[lane] = first(n.child[lane]);
+            }
+        }
+    }
+    out
 }
 
 /// Traversal stacks up to this size live in an array on the call stack; deeper trees (unusual
@@ -206,6 +222,18 @@ fn two_lanes(tn: Vec4, mask: u32) -> [usize; 2] {
     }
 }
 
+/// Starts fetching lane `i`'s child of `n`, deferred on the stack, so that it is in the cache
+/// when popped: an interior node's two cache lines, or a leaf through `leaf(first, count)`.
+#[inline(always)]
+fn prefetch_child(nodes: &[Node4], n: &Node4, i: usize, leaf: &impl Fn(u32, u32)) {
+    if n.count[i] > 0 {
+        leaf(n.child[i], n.count[i]);
+    } else if let Some(c) = nodes.get(n.child[i] as usize) {
+        prefetch_read(&c.bounds[0]);
+        prefetch_read(&c.bounds[4]);
+    }
+}
+
 /// Ordered front-to-back traversal. `leaf(first, count, &mut t_max)` is called for every leaf
 /// whose box the ray enters within `[t_min, t_max]` (the closure may lower `t_max`, which culls
 /// later boxes); it returns `true` to stop, and the traversal then returns `true`.
@@ -216,8 +244,27 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
     ray: &Ray,
     t_min: f32,
     t_max: &mut f32,
-    mut leaf: L,
+    leaf: L,
 ) -> bool {
+    traverse_prefetching(nodes, stack_size, ray, t_min, t_max, leaf, |_, _| {})
+}
+
+/// [`traverse`], calling `prefetch(first, count)` for each leaf deferred on the stack, so the
+/// caller can start fetching its primitives (deferred interior nodes are prefetched here).
+#[inline(always)]
+pub(crate) fn traverse_prefetching<L, P>(
+    nodes: &[Node4],
+    stack_size: usize,
+    ray: &Ray,
+    t_min: f32,
+    t_max: &mut f32,
+    mut leaf: L,
+    prefetch: P,
+) -> bool
+where
+    L: FnMut(u32, u32, &mut f32) -> bool,
+    P: Fn(u32, u32),
+{
     if nodes.is_empty() {
         return false;
     }
@@ -256,6 +303,7 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
                 // `sort_lanes`, from two keys.
                 if mask.count_ones() == 2 {
                     let [near, far] = two_lanes(tn, mask);
+                    prefetch_child(nodes, n, far, &prefetch);
                     stack[sp] = MaybeUninit::new(lane(far));
                     sp += 1;
                     cur = lane(near);
@@ -266,6 +314,7 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
                 let sorted = sort_lanes(tn, mask);
                 let nh = mask.count_ones() as usize;
                 for &k in sorted[1..nh].iter().rev() {
+                    prefetch_child(nodes, n, (k & 3) as usize, &prefetch);
                     stack[sp] = MaybeUninit::new(lane((k & 3) as usize));
                     sp += 1;
                 }
@@ -273,20 +322,26 @@ pub(crate) fn traverse<L: FnMut(u32, u32, &mut f32) -> bool>(
                 continue;
             }
         }
-        // Pop the nearest deferred child still in range.
-        loop {
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            // SAFETY: slots below the old `sp` were written by the push above.
-            let e = unsafe { stack[sp].assume_init() };
-            if e.t <= *t_max * SLAB_ROBUST {
-                cur = e;
-                break;
-            }
+        match pop_in_range(stack, &mut sp, *t_max) {
+            Some(e) => cur = e,
+            None => return false,
         }
     }
+}
+
+/// Pops the nearest deferred child still in range (entry distance within `t_max`), dropping
+/// those beyond it; None when the stack runs empty. `stack[..sp]` must have been written.
+#[inline(always)]
+fn pop_in_range(stack: &[MaybeUninit<Entry>], sp: &mut usize, t_max: f32) -> Option<Entry> {
+    while *sp > 0 {
+        *sp -= 1;
+        // SAFETY: slots below the old `sp` were written by the traversal's pushes.
+        let e = unsafe { stack[*sp].assume_init() };
+        if e.t <= t_max * SLAB_ROBUST {
+            return Some(e);
+        }
+    }
+    None
 }
 
 #[cfg(test)]

@@ -6,6 +6,8 @@
 
 use glam::Vec3;
 
+use crate::prefetch::prefetch_read;
+
 pub use super::studio::{SoftBox, Studio};
 
 /// A lat-long (equirectangular) environment map: +y is up, the image's centre column looks
@@ -44,9 +46,12 @@ impl LatLongMap {
         }
     }
 
-    fn radiance(&self, dir: Vec3) -> Vec3 {
+    /// The bilinear footprint of direction `dir`: the texel columns `xa`, `xb`, rows `ya`, `yb`
+    /// and the weights `fx`, `fy` of the second column and row (None for an empty map).
+    #[inline(always)]
+    fn footprint(&self, dir: Vec3) -> Option<([usize; 4], f32, f32)> {
         if self.width == 0 || self.height == 0 {
-            return Vec3::ZERO;
+            return None;
         }
         let phi = dir.x.atan2(-dir.z) - self.rotation;
         let u = (phi / std::f32::consts::TAU + 0.5).rem_euclid(1.0);
@@ -59,10 +64,29 @@ impl LatLongMap {
         let xi = |x: f32| (x as i64).rem_euclid(self.width as i64) as usize;
         let (xa, xb) = (xi(x0), xi(x0 + 1.0));
         let (ya, yb) = (y0 as usize, (y0 as usize + 1).min(self.height - 1));
+        Some(([xa, xb, ya, yb], fx, fy))
+    }
+
+    fn radiance(&self, dir: Vec3) -> Vec3 {
+        let Some(([xa, xb, ya, yb], fx, fy)) = self.footprint(dir) else {
+            return Vec3::ZERO;
+        };
         let at = |x: usize, y: usize| self.texels[y * self.width + x];
         let top = at(xa, ya).lerp(at(xb, ya), fx);
         let bottom = at(xa, yb).lerp(at(xb, yb), fx);
         top.lerp(bottom, fy) * self.intensity
+    }
+
+    /// Asks the processor to fetch the texels `radiance(dir)` reads into the cache, without
+    /// waiting for them (a no-op off x86-64).
+    #[inline(always)]
+    fn prefetch(&self, dir: Vec3) {
+        let Some(([xa, xb, ya, yb], ..)) = self.footprint(dir) else {
+            return;
+        };
+        for (x, y) in [(xa, ya), (xb, ya), (xa, yb), (xb, yb)] {
+            prefetch_read(&self.texels[y * self.width + x]);
+        }
     }
 }
 
@@ -102,6 +126,15 @@ impl Environment {
             }
             Environment::Studio(s) => s.radiance(dir),
             Environment::Map(m) => m.radiance(dir),
+        }
+    }
+
+    /// Starts fetching what `radiance(dir)` will read (a map's texels) so that a later call
+    /// does not wait on memory; the other kinds read nothing. Changes no result.
+    #[inline(always)]
+    pub fn prefetch(&self, dir: Vec3) {
+        if let Environment::Map(m) = self {
+            m.prefetch(dir);
         }
     }
 }

@@ -228,6 +228,18 @@ impl<'a> Tracer<'a> {
     ) -> L::C {
         let cos_signed = ray.dir.dot(hit.normal);
         let cos_i = cos_signed.abs().min(1.0);
+        // Reflected: mirror about the normal that faces the incoming ray. Its environment
+        // texels are fetched while the transmitted branch is traced (most reflected rays off a
+        // convex film escape), and the transmitted ray's while the reflectance is computed.
+        let n = if cos_signed < 0.0 {
+            hit.normal
+        } else {
+            -hit.normal
+        };
+        let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
+        let env = &self.scene.environment;
+        env.prefetch(ray.dir);
+        env.prefetch(dir);
         let r = l.film_reflectance(cos_i, hit.thickness_nm);
         let t = L::C::splat(1.0) - r;
         // Transmitted: the same line, beyond the film layer.
@@ -238,13 +250,6 @@ impl<'a> Tracer<'a> {
             weight: weight * t,
         };
         let lt = self.trace(l, transmitted, st);
-        // Reflected: mirror about the normal that faces the incoming ray.
-        let n = if cos_signed < 0.0 {
-            hit.normal
-        } else {
-            -hit.normal
-        };
-        let dir = (ray.dir - 2.0 * ray.dir.dot(n) * n).normalize();
         let skip = (self.scene.layer_skip / cos_i.max(0.1)).max(self.scene.epsilon);
         let reflected = Ray {
             origin: hit.position,
