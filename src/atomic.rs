@@ -255,6 +255,7 @@ mod tests {
                 ]
             );
         }
+        fs::remove_dir_all(&d).unwrap();
     }
 
     fn scratch(name: &str) -> PathBuf {
@@ -404,5 +405,6 @@ mod tests {
             "{e}"
         );
         prepare_output(Path::new("relative.png")).unwrap();
+        fs::remove_dir_all(&d).unwrap();
     }
 }
