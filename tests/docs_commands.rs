@@ -3,6 +3,7 @@
 //! every link and repository path they mention exists in a clone, and nothing points outside it.
 
 mod docs_support;
+mod scratch;
 
 use docs_support::table::{How, TABLE, small_args};
 use docs_support::{blocks, commands, documents, exists, link_targets, repo_paths, root};
@@ -101,7 +102,7 @@ fn every_link_and_repository_path_exists_and_nothing_points_outside_the_clone() 
 
 /// The folder the commands run in, with the small inputs the docs name.
 fn fixtures() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("filmsplat-docs-{}", std::process::id()));
+    let dir = scratch::dir("docs");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("samples")).unwrap();
     std::os::unix::fs::symlink(root().join("tests"), dir.join("tests")).unwrap();

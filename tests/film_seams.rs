@@ -4,6 +4,8 @@
 //! meet (two bubbles, a foam's bubbles) stay sheets of their own. The real frame is MELP's
 //! bubble in `tests/data` (see its ATTRIBUTION.md), cut here into PLY pieces.
 
+mod scratch;
+
 use std::path::{Path, PathBuf};
 
 use filmsplat::geometry::FilmGeometry;
@@ -20,7 +22,7 @@ fn data(rel: &str) -> PathBuf {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("filmsplat-seams-{}-{name}", std::process::id()));
+    let dir = scratch::dir("seams").join(name);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

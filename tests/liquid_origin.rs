@@ -3,6 +3,8 @@
 //! Each test builds a fake run `<tmp>/run/{0,5}` from the real frame `drops_on_film/105`
 //! (tests/data; 1,956 3D particles in four packed blocks, which positions alone call bodies).
 
+mod scratch;
+
 use filmsplat::pipeline::{self, Prepared};
 use filmsplat::scene::SceneDesc;
 use std::path::{Path, PathBuf};
@@ -13,12 +15,7 @@ const PARTICLES: usize = 1956;
 /// A fresh run folder `<tmp>/filmsplat-liquid-origin-<pid>-<name>/run` with frame 5 a copy of
 /// [`FRAME`], and frame 0 as `first` makes it (`None`: no frame 0).
 fn run(name: &str, first: Option<fn(&Path)>) -> PathBuf {
-    let root = std::env::temp_dir()
-        .join(format!(
-            "filmsplat-liquid-origin-{}-{name}",
-            std::process::id()
-        ))
-        .join("run");
+    let root = scratch::dir("liquid-origin").join(name).join("run");
     let _ = std::fs::remove_dir_all(&root);
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join(FRAME);
     let copy = |to: &Path| {

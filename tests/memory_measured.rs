@@ -8,6 +8,8 @@
 //! measured peak (heap only: the estimate's fixed part also covers program and stacks) within
 //! a factor 2 of the estimate's.
 
+mod scratch;
+
 use filmsplat::pipeline::{memory, prepare, prepare_with, render, write_image};
 use filmsplat::pointcloud::PointCloud;
 use filmsplat::scene::SceneDesc;
@@ -81,10 +83,7 @@ fn measure(particles: usize, width: usize, height: usize) -> (u64, memory::Memor
     );
     let desc = SceneDesc::from_toml(&toml, "inline").unwrap();
     let estimate = memory::estimate_scene(&desc, Path::new("."), false).unwrap();
-    let png = std::env::temp_dir().join(format!(
-        "filmsplat-memory-{}-{particles}.png",
-        std::process::id()
-    ));
+    let png = scratch::dir("memory").join(format!("{particles}.png"));
     let before = LIVE.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
     {

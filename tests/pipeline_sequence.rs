@@ -3,6 +3,8 @@
 //! resume skips finished frames and cleans an interrupted run's temporaries, keep-going
 //! reports every failure.
 
+mod scratch;
+
 use filmsplat::pipeline::camera_path::FrameCamera;
 use filmsplat::pipeline::sequence::{
     FrameJob, SequenceOptions, at_frame, expand, frames, render_sequence, shard, sharded,
@@ -32,8 +34,7 @@ struct Job {
 
 impl Job {
     fn new(name: &str) -> Job {
-        let dir =
-            std::env::temp_dir().join(format!("filmsplat-sequence-{}-{name}", std::process::id()));
+        let dir = scratch::dir("sequence").join(name);
         let _ = std::fs::remove_dir_all(&dir);
         Job {
             dir,

@@ -3,6 +3,8 @@
 //! 32x24 and every channel of every layer read back must be finite. Zero samples and zero
 //! size are clear errors.
 
+mod scratch;
+
 use filmsplat::image::read_exr;
 use filmsplat::io::write_ply;
 use filmsplat::pipeline;
@@ -13,9 +15,7 @@ use glam::Vec3;
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("filmsplat-extremes-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    scratch::dir("extremes").join(name)
 }
 
 /// A bubble of `radius` scene units with `particles` particles.

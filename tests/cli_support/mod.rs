@@ -4,6 +4,9 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+#[path = "../scratch/mod.rs"]
+mod scratch;
+
 /// Runs `filmsplat` with `args`; returns (exit code, stdout, stderr).
 pub fn filmsplat(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_filmsplat"))
@@ -19,9 +22,7 @@ pub fn filmsplat(args: &[&str]) -> (i32, String, String) {
 
 /// A path in this test process's own temporary folder.
 pub fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("filmsplat-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    scratch::dir("cli").join(name)
 }
 
 /// Path of a file in tests/data/.

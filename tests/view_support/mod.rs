@@ -10,6 +10,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 
+#[path = "../scratch/mod.rs"]
+mod scratch;
+
 /// A small bubble at a small size: quick to prepare and render.
 pub const SCENE: &str =
     "[input]\nsample = \"bubble\"\nparticles = 2000\n[render]\nwidth = 64\nheight = 36\n";
@@ -184,5 +187,5 @@ pub fn decode(png: &[u8]) -> (u32, u32, Vec<u8>) {
 pub fn temp(name: &str) -> PathBuf {
     static N: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let n = N.fetch_add(1, Ordering::Relaxed);
-    std::env::temp_dir().join(format!("filmsplat-view-{}-{n}-{name}", std::process::id()))
+    scratch::dir("view").join(format!("{n}-{name}"))
 }
