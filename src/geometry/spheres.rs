@@ -14,7 +14,7 @@ use crate::prefetch::prefetch_read;
 /// Particles drawn as spheres around their centres (normals are not needed).
 ///
 /// Layout: each BVH leaf's spheres are stored in its own run of 64-byte four-sphere packets
-/// ([`Sphere4`], structure-of-arrays), so a leaf test reads whole cache lines and needs no
+/// (`Sphere4`, structure-of-arrays), so a leaf test reads whole cache lines and needs no
 /// gather; a *lane* `4 · packet + i` names one sphere of that layout. Memory: ~32 bytes per
 /// sphere (packets, thickness and particle index per lane, padded to whole packets per leaf)
 /// plus the BVH (~30 bytes per particle) and a copy of its 4-wide nodes whose leaves point at

@@ -4,6 +4,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+// A test that takes both support modules loads this one twice: two sweeps, no harm.
+#[allow(clippy::duplicate_mod)]
 #[path = "../scratch/mod.rs"]
 mod scratch;
 

@@ -10,6 +10,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 
+// A test that takes both support modules loads this one twice: two sweeps, no harm.
+#[allow(clippy::duplicate_mod)]
 #[path = "../scratch/mod.rs"]
 mod scratch;
 
