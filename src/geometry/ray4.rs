@@ -1,12 +1,13 @@
 //! A ray splatted into four SSE lanes (glam's `Vec4`), shared by the four-wide disk test
-//! (`disk4`) and sphere test (`sphere4`), and the padding both primitive arrays carry so a
-//! packet of four can start at any slot.
+//! (`disk4`) and sphere test (`sphere4`), and the padding the disks' slot array carries so a
+//! packet of four can start at any slot (the spheres are stored in leaf-aligned packets and
+//! need none).
 
 use glam::Vec4;
 
 use super::Ray;
 
-/// Number of padding primitives after the last disk or sphere of a slot array.
+/// Number of padding primitives after the last disk of a slot array.
 pub(super) const PAD: usize = 3;
 
 /// A ray splatted into lanes.
