@@ -56,7 +56,7 @@ impl Screen {
 impl std::fmt::Display for Screen {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let what = if self.stride == 1 {
-            format!("every one of the {} particles", self.sampled)
+            format!("the {} particles (each one checked)", self.sampled)
         } else {
             format!(
                 "a sample of {} particles (1 in {}, strided through the file)",
