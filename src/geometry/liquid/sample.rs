@@ -1,8 +1,11 @@
 //! The build of the field's grid ([`super::grid::FieldGrid`]): φ at the nodes of the bricks a
 //! support sphere reaches. The lattice is cut into tiles of [`TILE`]³ bricks; each tile (in
-//! parallel) scatters the particles that reach it into one dense array of its nodes, a row of
-//! nodes at a time (the kernel's x terms computed once a particle, one square root a row), and
-//! then cuts that array into its bricks. Against scattering into each brick on its own, a
+//! parallel) scatters the particles that reach it into dense arrays of its nodes (Σ w and the
+//! three sums of Σ w x, each an array of its own), a row of nodes at a time: the kernel's x
+//! terms computed once a particle, and each row of its support's box taken in fixed runs of
+//! [`LANES`] nodes (no square root or bounds a row; the nodes past the support add zero), so
+//! the sums compile to four-wide vector code. φ is then computed once a node of the tile and
+//! copied into its bricks. Against scattering into each brick on its own, a
 //! particle's kernel is split into a few tile pieces instead of ~60 brick pieces of rows of at
 //! most five nodes, and no node on a shared brick face is summed twice.
 //!
@@ -10,7 +13,7 @@
 //! computes it, so a node on a face two tiles share holds one value, and the result does not
 //! depend on the threads.
 
-use glam::{IVec3, Vec3, Vec4};
+use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
 use super::field::MIN_WEIGHT;
@@ -102,13 +105,23 @@ pub(super) fn bricks(p: &Params, lat: Lattice) -> Vec<(IVec3, [f32; NODES])> {
     per_tile.concat()
 }
 
+/// Nodes a row of a particle's kernel is scattered in at once: a fixed width, so the update
+/// is a straight run of four-wide sums with no per-row bounds (the nodes past the kernel's end
+/// get weight zero). 16 covers a kernel's widest row at three cells a spacing (14 nodes);
+/// a wider row takes more runs.
+const LANES: usize = 16;
+
 /// The sums of one tile's nodes within `[a, b]` (tile node coordinates, inclusive; the rest
-/// of its nodes no particle reaches): per node Σ wᵢ and Σ wᵢ (xᵢ − tile corner).
+/// of its nodes no particle reaches): per node Σ wᵢ and Σ wᵢ (xᵢ − tile corner), each in an
+/// array of its own (x fastest, rows [`LANES`] longer than the range for the runs' ends).
 struct Tile {
     a: IVec3,
     b: IVec3,
     cell: f32,
-    sums: Vec<Vec4>,
+    /// Row length of the arrays: the range's plus [`LANES`].
+    stride: usize,
+    w: Vec<f32>,
+    s: [Vec<f32>; 3],
 }
 
 impl Tile {
@@ -120,7 +133,9 @@ impl Tile {
         (a, b)
     }
 
-    /// Sums the kernels of the particles `list` over the nodes of tile `t`.
+    /// Sums the kernels of the particles `list` over the nodes of tile `t`: per particle, each
+    /// row of its support's box that the support meets, [`LANES`] nodes at a time from the
+    /// box's low end, weight (1 − (dx² + dy² + dz²)/R²)₊³ (zero past the support).
     fn scatter(p: &Params, lat: Lattice, t: IVec3, list: &[(IVec3, u32)]) -> Tile {
         let cell = lat.cell;
         let (inv_cell, r2) = (1.0 / cell, p.support * p.support);
@@ -132,21 +147,30 @@ impl Tile {
             (a, b) = (a.min(pa), b.max(pb));
         }
         let dim = (b - a + IVec3::ONE).max(IVec3::ZERO);
-        let (nx, ny) = (dim.x as usize, dim.y as usize);
-        let mut sums = vec![Vec4::ZERO; nx * ny * dim.z.max(0) as usize];
-        let mut ex = [0.0f32; TILE_CELLS as usize + 1];
+        let (stride, ny) = (dim.x as usize + LANES, dim.y as usize);
+        let len = stride * ny * dim.z.max(0) as usize;
+        let mut tile = Tile {
+            a,
+            b,
+            cell,
+            stride,
+            w: vec![0.0; len],
+            s: [vec![0.0; len], vec![0.0; len], vec![0.0; len]],
+        };
+        // The x part of the kernel's argument, once a particle, from the box's low end; 2 past
+        // its high end (so 1 − off − e < 0 there).
+        let mut ex = [2.0f32; TILE_CELLS as usize + 1 + LANES];
         for &(_, i) in list {
             let x = p.points[i as usize] - corner;
             let (pa, pb) = Self::reach(x, p.support, inv_cell);
             if pa.cmpgt(pb).any() {
                 continue;
             }
-            // The x part of the kernel's argument, once a particle.
-            for n in pa.x..=pb.x {
-                let d = x.x - n as f32 * cell;
-                ex[n as usize] = d * d * inv_r2;
+            let width = (pb.x - pa.x + 1) as usize;
+            for (k, e) in ex[..width].iter_mut().enumerate() {
+                let d = x.x - (pa.x + k as i32) as f32 * cell;
+                *e = d * d * inv_r2;
             }
-            let terms = Vec4::new(1.0, x.x, x.y, x.z);
             for nz in pa.z..=pb.z {
                 let dz = x.z - nz as f32 * cell;
                 for ny_ in pa.y..=pb.y {
@@ -155,41 +179,70 @@ impl Tile {
                     if off >= r2 {
                         continue;
                     }
-                    // The row's nodes within the support: |dx| < √(R² − dy² − dz²).
-                    let half = (r2 - off).sqrt();
-                    let x0 = ceil((x.x - half) * inv_cell).max(pa.x);
-                    let x1 = floor((x.x + half) * inv_cell).min(pb.x);
                     let q0 = 1.0 - off * inv_r2;
-                    if x0 > x1 {
-                        continue;
-                    }
-                    let row = ((nz - a.z) as usize * ny + (ny_ - a.y) as usize) * nx;
-                    let (s0, s1) = (row + (x0 - a.x) as usize, row + (x1 - a.x) as usize);
-                    let nodes = sums[s0..=s1].iter_mut();
-                    for (sum, e) in nodes.zip(&ex[x0 as usize..=x1 as usize]) {
-                        let q = (q0 - e).max(0.0);
-                        *sum += terms * (q * q * q);
+                    let row = ((nz - a.z) as usize * ny + (ny_ - a.y) as usize) * stride;
+                    let start = row + (pa.x - a.x) as usize;
+                    for k in (0..width).step_by(LANES) {
+                        tile.add_run(start + k, &ex[k..k + LANES], q0, x);
                     }
                 }
             }
+            ex[..width].fill(2.0);
         }
-        Tile { a, b, cell, sums }
+        tile
     }
 
-    /// The sums at tile node `n` (zero outside the range any particle reaches).
-    #[inline]
-    fn at(&self, n: IVec3) -> Vec4 {
-        if n.cmplt(self.a).any() || n.cmpgt(self.b).any() {
-            return Vec4::ZERO;
+    /// Adds one run of [`LANES`] nodes from array index `at`: weights (q0 − e)₊³.
+    #[inline(always)]
+    fn add_run(&mut self, at: usize, ex: &[f32], q0: f32, x: Vec3) {
+        let ex: &[f32; LANES] = ex.try_into().unwrap();
+        let mut q3 = [0.0f32; LANES];
+        for (q, e) in q3.iter_mut().zip(ex) {
+            let q1 = (q0 - e).max(0.0);
+            *q = q1 * q1 * q1;
         }
-        let d = n - self.a;
-        let dim = self.b - self.a + IVec3::ONE;
-        self.sums[((d.z * dim.y + d.y) * dim.x + d.x) as usize]
+        let run = |v: &mut Vec<f32>, c: f32| {
+            let v: &mut [f32; LANES] = (&mut v[at..at + LANES]).try_into().unwrap();
+            for (v, q) in v.iter_mut().zip(&q3) {
+                *v += c * q;
+            }
+        };
+        run(&mut self.w, 1.0);
+        let [sx, sy, sz] = &mut self.s;
+        run(sx, x.x);
+        run(sy, x.y);
+        run(sz, x.z);
+    }
+
+    /// ψ (the field in its cut-off form) at every node of the range, in the arrays' order,
+    /// and whether the node holds weight.
+    fn psi(&self, p: &Params) -> Vec<(f32, bool)> {
+        let dim = (self.b - self.a + IVec3::ONE).max(IVec3::ZERO);
+        let mut out = vec![(p.support, false); self.w.len()];
+        for z in 0..dim.z {
+            for y in 0..dim.y {
+                let row = (z as usize * dim.y as usize + y as usize) * self.stride;
+                for x in 0..dim.x {
+                    let k = row + x as usize;
+                    let w = self.w[k];
+                    if w <= 0.0 {
+                        continue;
+                    }
+                    let mean = Vec3::new(self.s[0][k], self.s[1][k], self.s[2][k]) / w;
+                    let n = self.a + IVec3::new(x, y, z);
+                    let phi = (mean - n.as_vec3() * self.cell).length() - p.radius;
+                    out[k] = (phi.max(CUT_OFF_SLOPE * p.spacing * (MIN_WEIGHT - w)), true);
+                }
+            }
+        }
+        out
     }
 
     /// φ at the nodes of this tile's bricks that hold some weight, by brick coordinates (tile
     /// `t`'s bricks).
     fn bricks(&self, p: &Params, t: IVec3) -> Vec<(IVec3, [f32; NODES])> {
+        let psi = self.psi(p);
+        let dim = self.b - self.a + IVec3::ONE;
         let mut out = Vec::new();
         for bz in 0..TILE {
             for by in 0..TILE {
@@ -199,36 +252,28 @@ impl Tile {
                     if hi.cmplt(self.a).any() || lo.cmpgt(self.b).any() {
                         continue;
                     }
-                    if let Some(v) = self.brick(p, lo) {
+                    let mut v = [p.support; NODES];
+                    let mut any = false;
+                    let (d0, d1) = ((lo - self.a).max(IVec3::ZERO), (hi - self.a).min(dim - 1));
+                    for z in d0.z..=d1.z {
+                        for y in d0.y..=d1.y {
+                            let at = (z * dim.y + y) as usize * self.stride;
+                            let to = (z + self.a.z - lo.z) as usize * SIDE * SIDE
+                                + (y + self.a.y - lo.y) as usize * SIDE;
+                            for x in d0.x..=d1.x {
+                                let (f, has) = psi[at + x as usize];
+                                v[to + (x + self.a.x - lo.x) as usize] = f;
+                                any |= has;
+                            }
+                        }
+                    }
+                    if any {
                         out.push((t * TILE + IVec3::new(bx, by, bz), v));
                     }
                 }
             }
         }
         out
-    }
-
-    /// φ at the nodes of the brick whose lowest tile node is `lo`; `None` if none has weight.
-    fn brick(&self, p: &Params, lo: IVec3) -> Option<[f32; NODES]> {
-        let mut v = [p.support; NODES];
-        let mut any = false;
-        for (k, out) in v.iter_mut().enumerate() {
-            let o = IVec3::new(
-                (k % SIDE) as i32,
-                (k / SIDE % SIDE) as i32,
-                (k / (SIDE * SIDE)) as i32,
-            );
-            let n = lo + o;
-            let s = self.at(n);
-            if s.x <= 0.0 {
-                continue;
-            }
-            any = true;
-            let mean = Vec3::new(s.y, s.z, s.w) / s.x;
-            let phi = (mean - n.as_vec3() * self.cell).length() - p.radius;
-            *out = phi.max(CUT_OFF_SLOPE * p.spacing * (MIN_WEIGHT - s.x));
-        }
-        any.then_some(v)
     }
 }
 
@@ -257,11 +302,20 @@ mod tests {
 
     /// Brute force over all particles: every node of every brick holds the field (the cut-off
     /// form), and every node some support reaches lies in a brick; no brick twice. Fails when
-    /// a tile misses a particle (e.g. one tile fewer either side) or a row is cut short.
+    /// a tile misses a particle (e.g. one tile fewer either side), a row is cut short, or the
+    /// x terms of one particle are left for the next (the runs read past its row). With a
+    /// kernel of 3 spacings (rows of up to 19 nodes: two runs of [`LANES`]) too; fails when a
+    /// row takes only its first run.
     #[test]
     fn every_node_holds_the_field_summed_over_all_particles() {
+        for support in [2.25, 3.0] {
+            field_on_every_node(support);
+        }
+    }
+
+    fn field_on_every_node(support: f32) {
         let pts = cloud();
-        let (s, support) = (1.0, 2.25);
+        let s = 1.0;
         let p = Params {
             points: &pts,
             spacing: s,
