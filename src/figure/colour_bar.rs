@@ -1,6 +1,8 @@
 //! A labelled vertical colour bar beside an image (for the false-colour views).
 
-use crate::image::{Anchor, RgbImage, draw_line, draw_text, draw_text_vertical, fill_rect};
+use crate::image::{
+    Anchor, RgbImage, draw_line, draw_text, draw_text_vertical, fill_rect, is_one_value,
+};
 
 /// Width in pixels of the colour-bar panel of a `width`×`height` image: 150 px for a 540 px
 /// high image, scaled with the height (0.35–4×) but never more than a third of the width.
@@ -109,8 +111,7 @@ impl BarLabels {
         if !(min.is_finite() && max.is_finite()) || min > max {
             return BarLabels::Nothing;
         }
-        let scale = min.abs().max(max.abs());
-        if max - min <= 1e-6 * scale || max == min {
+        if is_one_value(min, max) {
             return BarLabels::Constant(0.5 * (min + max));
         }
         let ticks = 5;

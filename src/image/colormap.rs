@@ -2,6 +2,18 @@
 
 use super::tonemap::srgb_to_linear;
 
+/// Relative width under which a value range is one value: [`is_one_value`].
+pub const ONE_VALUE_WIDTH: f32 = 1e-6;
+
+/// Whether the range `min..=max` holds one value: empty (or NaN), or narrower than
+/// [`ONE_VALUE_WIDTH`] times the larger magnitude of its ends. A view paints such a range at
+/// mid-ramp and its colour bar says `all V`, so that f32 round-off in a constant field (a blend
+/// of equal thicknesses, 1938.32 nm ± 0.001) is not stretched over the whole ramp.
+pub fn is_one_value(min: f32, max: f32) -> bool {
+    let width = max - min;
+    width.is_nan() || width <= ONE_VALUE_WIDTH * min.abs().max(max.abs())
+}
+
 /// Viridis, linear RGB: `t` in `[0, 1]` (clamped; NaN gives the `t = 0` colour) runs from dark
 /// purple through blue and green to yellow, perceptually uniform and colour-blind safe.
 ///

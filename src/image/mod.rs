@@ -23,7 +23,7 @@ pub mod visibility;
 
 pub use crate::atomic::write_atomic;
 pub use buffer::RgbImage;
-pub use colormap::viridis;
+pub use colormap::{ONE_VALUE_WIDTH, is_one_value, viridis};
 pub use draw::{blend, draw_line, fill_rect, stroke_rect};
 pub use exr::{ExrLayers, read_exr, read_exr_rgba, write_exr};
 pub use grade::Grade;

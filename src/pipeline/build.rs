@@ -3,7 +3,7 @@
 //! is made (a map's file read).
 
 use super::config::{AttributeView, EnvironmentConfig, FilmConfig};
-use super::framing::Framing;
+use super::framing::{Framing, surface_box};
 use crate::geometry::{
     Aabb, DiskGeometry, Droplets, FilmGeometry, LayerBlend, MlsSurface, Primitive, SphereGeometry,
 };
@@ -266,7 +266,12 @@ pub(super) fn framing(
     let mut parts = Vec::new();
     if !cloud.is_empty() {
         let fb = geometry.bounds();
-        parts.push(Framing::of_splats(fb.min, fb.max, &cloud.positions, radii));
+        let (min, max) = match geometry {
+            // Its box holds the support spheres, not the surface (see `surface_box`).
+            FilmGeometry::Mls(_) => surface_box(fb.min, fb.max, &cloud.positions, radii),
+            _ => (fb.min, fb.max),
+        };
+        parts.push(Framing::of_splats(min, max, &cloud.positions, radii));
     }
     for d in drops.iter().filter(|d| !d.is_empty()) {
         let (lo, hi) = d

@@ -68,6 +68,33 @@ impl Framing {
     }
 }
 
+/// The box of a surface drawn through particles at `positions` (an MLS surface) whose
+/// geometry's box `min`..`max` holds more than the surface: the centres' box grown by the
+/// median of `radii` on every side, within `min`..`max`. An MLS surface's geometry box holds
+/// its particles' support spheres, several spacings thick across a flat film, which made
+/// [`view_direction`] take a flat film for a thick one and see it 16° above its plane while
+/// the same film drawn as disks was seen from 50°; the surface itself lies within a fraction
+/// of a spacing of the particles (half a spacing past an open edge). `min`..`max` unchanged
+/// when there are no particles. Cost: one pass and a median.
+pub fn surface_box(min: Vec3, max: Vec3, positions: &[Vec3], radii: &[f32]) -> (Vec3, Vec3) {
+    let (lo, hi) = positions
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let mut sorted = radii.to_vec();
+    let mid = sorted.len() / 2;
+    let grow = match sorted.is_empty() {
+        true => 0.0,
+        false => *sorted.select_nth_unstable_by(mid, f32::total_cmp).1,
+    };
+    let (cut_min, cut_max) = (min.max(lo - grow), max.min(hi + grow));
+    if positions.is_empty() || !cut_min.cmple(cut_max).all() {
+        return (min, max);
+    }
+    (cut_min, cut_max)
+}
+
 /// The scene's explicit camera, or the auto-framed one for `framing` ([`auto_camera`]) in an
 /// image of aspect `aspect`.
 ///

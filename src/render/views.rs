@@ -3,7 +3,7 @@
 
 use super::world::{World, WorldRef};
 use crate::geometry::SurfaceHit;
-use crate::image::{srgb_to_linear, viridis};
+use crate::image::{is_one_value, srgb_to_linear, viridis};
 use crate::{Error, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -115,12 +115,13 @@ pub enum Ramp {
 }
 
 impl Legend {
-    /// Linear RGB of value `v` (clamped to `min..max`; mid-ramp if the range is empty).
+    /// Linear RGB of value `v` (clamped to `min..max`; mid-ramp if the range holds one value,
+    /// [`crate::image::is_one_value`], as the colour bar then says `all V`).
     pub fn colour(&self, v: f32) -> Vec3 {
-        let t = if self.max > self.min {
-            ((v - self.min) / (self.max - self.min)).clamp(0.0, 1.0)
-        } else {
+        let t = if is_one_value(self.min, self.max) {
             0.5
+        } else {
+            ((v - self.min) / (self.max - self.min)).clamp(0.0, 1.0)
         };
         match self.ramp {
             Ramp::Viridis => Vec3::from(viridis(t)),
@@ -335,5 +336,31 @@ mod tests {
         assert_eq!(c.rgb[10 * 40 + 11], Vec3::from(viridis(0.0)), "one splat");
         let ids = render_view(&scene, View::ParticleId, 40, 20).unwrap();
         assert_ne!(ids.rgb[10 * 40 + 11], ids.rgb[10 * 40 + 28]);
+    }
+
+    #[test]
+    fn a_constant_field_is_one_colour_whatever_its_round_off() {
+        // sph_bubble -test 52 starts at 1938.3 nm everywhere; blended crossings differ in the
+        // last f32 bits, and the view stretched those over the whole ramp (a speckle of five
+        // colours under a bar saying `all 1938.32`).
+        let h = 1938.32f32;
+        let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
+        let t = [h, f32::from_bits(h.to_bits() + 1)];
+        let geometry = DiskGeometry::build(&p, &[Vec3::Z; 2], &[0.9; 2], &t).unwrap();
+        let scene = World {
+            geometry: geometry.into(),
+            camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
+            environment: Environment::Uniform(Vec3::ONE),
+            layer_skip: 0.1,
+            epsilon: 1e-5,
+            staging: Default::default(),
+        };
+        let v = render_view(&scene, View::Thickness, 40, 20).unwrap();
+        let legend = v.legend.unwrap();
+        assert!(legend.max > legend.min, "{legend:?}");
+        assert!(is_one_value(legend.min, legend.max));
+        let mid = Vec3::from(viridis(0.5));
+        assert_eq!(v.rgb[10 * 40 + 11], mid);
+        assert_eq!(v.rgb[10 * 40 + 28], mid);
     }
 }
