@@ -1,8 +1,9 @@
 //! The pinholes of one frame, pixel by pixel: what the render summary's figure counts
 //! ([`pipeline::pinholes::front_layer_of`]) and why the film was missed there.
 //!
-//! `cargo run --release --example pinhole_probe -- FRAME [PRIMITIVE]` (PRIMITIVE: disk, sphere
-//! or mls, default mls) renders FRAME with `--preset preview` from the default camera and
+//! `cargo run --release --example pinhole_probe -- FRAME [PRIMITIVE [WxH]]` (PRIMITIVE: disk,
+//! sphere or mls, default mls; WxH the image size, default the renderer's) renders FRAME with
+//! `--preset preview` from the default camera and
 //! prints, for each missing pixel whose ray crosses the film the particles hold
 //! ([`FilmSpan::crosses`]), one line with the pixel and the depth found (0: nothing), then one
 //! line per particle whose tangent plane the ray crosses within a spacing of it before that
@@ -32,12 +33,17 @@ fn main() {
     let frame = PathBuf::from(
         std::env::args()
             .nth(1)
-            .expect("usage: pinhole_probe FRAME [PRIMITIVE]"),
+            .expect("usage: pinhole_probe FRAME [PRIMITIVE [WxH]]"),
     );
     let mut desc = SceneDesc::default();
     desc.input.cloud = Some(frame);
     desc.render.preset = Some("preview".into());
     desc.film.primitive = Some(std::env::args().nth(2).unwrap_or_else(|| "mls".into()));
+    if let Some(size) = std::env::args().nth(3) {
+        let (w, h) = size.split_once('x').expect("size: WxH");
+        desc.render.width = Some(w.parse().expect("width"));
+        desc.render.height = Some(h.parse().expect("height"));
+    }
     let (positions, normals, own) = film_particles(&desc, Path::new("")).expect("load");
     let film = Film {
         positions,
