@@ -26,7 +26,7 @@ const MAX_CANDIDATES: usize = 48;
 /// While collecting, the traversal runs to `t + LIMIT_SLACK · band` of the current closest hit,
 /// so a later, slightly closer hit with a slightly wider band rarely needs the fallback (measured
 /// on a 1M-disk sphere shell: 50% fallbacks without slack, none with 1.25).
-const LIMIT_SLACK: f32 = 1.5;
+pub(super) const LIMIT_SLACK: f32 = 1.5;
 
 /// A disk hit: slot, distance, squared distance from the disk centre.
 pub(super) type DiskHit = (u32, f32, f32);
@@ -233,13 +233,13 @@ pub(super) fn layer_hit(ray: &Ray, sum: &LayerSum) -> SurfaceHit {
 /// candidates beyond the current band end `keep` (if the band grows again later, `min_lim`
 /// sends the query to the exact fallback). Returns false if `c` still did not fit.
 #[inline]
-fn push_candidate(
-    cands: &mut [DiskHit; MAX_CANDIDATES],
+pub(super) fn push_candidate<const N: usize>(
+    cands: &mut [DiskHit; N],
     nc: &mut usize,
     c: DiskHit,
     keep: f32,
 ) -> bool {
-    if *nc == MAX_CANDIDATES {
+    if *nc == N {
         let mut k = 0;
         for i in 0..*nc {
             if cands[i].1 <= keep {
@@ -249,7 +249,7 @@ fn push_candidate(
         }
         *nc = k;
     }
-    if *nc < MAX_CANDIDATES {
+    if *nc < N {
         cands[*nc] = c;
         *nc += 1;
         true

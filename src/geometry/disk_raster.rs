@@ -24,13 +24,9 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::disk_query::layer_hit;
+use super::disk_raster_tile::{Entry, N, RASTER_TILE, TileRays, trace};
 use super::disks::DiskGeometry;
-use super::primitives::intersect_disk;
 use super::{Ray, SurfaceHit};
-
-/// Side of the square tiles the disks are binned into, pixels.
-pub const RASTER_TILE: usize = 16;
 
 /// Relative and absolute (per unit distance) growth of a disk's bounding sphere so that float
 /// rounding in the projection, the camera's rays and the exact test never drops a hit.
@@ -63,18 +59,6 @@ pub struct PinholeGrid {
     pub height: usize,
 }
 
-/// A disk binned into a tile: its nearest possible hit distance, its slot and its pixel box
-/// (inclusive). 16 bytes.
-#[derive(Clone, Copy, Debug)]
-struct Entry {
-    t_near: f32,
-    slot: u32,
-    x0: u16,
-    x1: u16,
-    y0: u16,
-    y1: u16,
-}
-
 /// The disks of a [`DiskGeometry`] binned for one [`PinholeGrid`] (see the module docs).
 /// Memory: 16 bytes per (disk, tile it overlaps) and 4 bytes a tile; on the 1M-disk shell at
 /// 1280×720, about 1 M entries (≈ 17 bytes a pixel).
@@ -97,7 +81,7 @@ impl PinholeGrid {
         let r = r as f64 * (1.0 + GROW_REL) + GROW_ABS * dist;
         let basis = |v: Vec3| oc.dot(v.as_dvec3());
         let (cx, cy, cz) = (basis(self.right), basis(self.up), basis(self.forward));
-        if cz < -r {
+        if cz < -r || self.outside_frustum(cx, cy, cz, r) {
             return None;
         }
         if cz <= 1.01 * r {
@@ -130,6 +114,20 @@ impl PinholeGrid {
             y0: clamp(y0, h),
             y1: clamp(y1, h),
         }))
+    }
+
+    /// True if the sphere at camera coordinates (`cx`, `cy`, `cz`) with radius `r` lies wholly
+    /// beyond one of the four side planes of the frustum of the pixel centres (grown by two
+    /// pixels): a cheap test before the projection.
+    #[inline]
+    fn outside_frustum(&self, cx: f64, cy: f64, cz: f64, r: f64) -> bool {
+        // The plane through the eye containing the up axis and the edge slope `a`: its
+        // outward unit normal is (1, −a)/√(1 + a²) in the (x, z) plane.
+        let beyond = |x: f64, a: f64| (x - a * cz) > r * (1.0 + a * a).sqrt();
+        let (w, h) = (self.width as f64, self.height as f64);
+        let a = self.half_width as f64 * (1.0 + 4.0 / w);
+        let b = self.half_height as f64 * (1.0 + 4.0 / h);
+        beyond(cx, a) || beyond(-cx, a) || beyond(cy, b) || beyond(-cy, b)
     }
 
     /// The whole image as a pixel box.
@@ -257,7 +255,7 @@ impl DiskGeometry {
         let tiles: Vec<_> = (0..raster.tiles())
             .into_par_iter()
             .map(|t| {
-                let mut out = [None; RASTER_TILE * RASTER_TILE];
+                let mut out = [None; N];
                 raster.tile(t, &ray, &mut out);
                 out
             })
@@ -297,123 +295,28 @@ impl PrimaryRaster<'_> {
         &self,
         t: usize,
         ray: &impl Fn(usize, usize) -> Ray,
-        out: &mut [Option<SurfaceHit>; RASTER_TILE * RASTER_TILE],
+        out: &mut [Option<SurfaceHit>; N],
     ) {
-        let g = self.geometry;
         let (x0, y0) = self.tile_origin(t);
         let (x1, y1) = (
             (x0 + RASTER_TILE).min(self.grid.width),
             (y0 + RASTER_TILE).min(self.grid.height),
         );
         let bin = &self.entries[self.starts[t] as usize..self.starts[t + 1] as usize];
-        let idle = Ray {
-            origin: Vec3::ZERO,
-            dir: Vec3::ZERO,
-        };
-        let mut rays = [idle; RASTER_TILE * RASTER_TILE];
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let r = ray(x, y);
-                debug_assert!(r.origin == self.grid.eye, "camera rays start at the eye");
-                if r.is_valid() {
-                    rays[(y - y0) * RASTER_TILE + x - x0] = r;
-                }
-            }
-        }
-        // The pixels of entry `e` in this tile, as indices into the tile's arrays.
+        let rays = TileRays::new(self.grid.eye, (x0, x1), (y0, y1), ray);
+        // The tile-local pixel box of an entry (it overlaps the tile: it was binned there).
         let span = |e: &Entry| {
-            let xs = (e.x0 as usize).max(x0)..=(e.x1 as usize).min(x1 - 1);
-            let ys = (e.y0 as usize).max(y0)..=(e.y1 as usize).min(y1 - 1);
-            ys.flat_map(move |y| xs.clone().map(move |x| (y - y0) * RASTER_TILE + x - x0))
+            (
+                (e.x0 as usize).max(x0) - x0,
+                (e.x1 as usize).min(x1 - 1) - x0,
+            )
         };
-        let best = closest(g, bin, &rays, span);
-        blend(g, bin, &rays, &best, span, out);
-    }
-}
-
-/// Per pixel of a tile: the closest disk hit (slot, t, d2) or `None`.
-type Closest = [Option<(u32, f32, f32)>; RASTER_TILE * RASTER_TILE];
-
-/// Pass 1: the closest disk hit of each ray of the tile, ties to the lower particle index.
-#[inline(always)]
-fn closest<I: Iterator<Item = usize>>(
-    g: &DiskGeometry,
-    bin: &[Entry],
-    rays: &[Ray; RASTER_TILE * RASTER_TILE],
-    span: impl Fn(&Entry) -> I,
-) -> Closest {
-    let mut best: Closest = [None; RASTER_TILE * RASTER_TILE];
-    // The farthest closest hit over the tile (∞ while a pixel has none); recomputed every few
-    // disks, it only decreases, so a stale value is conservative.
-    let mut far = f32::INFINITY;
-    for (k, e) in bin.iter().enumerate() {
-        if k % 8 == 7 {
-            far = best
-                .iter()
-                .zip(rays)
-                .filter(|(_, r)| r.dir != Vec3::ZERO)
-                .map(|(b, _)| b.map_or(f32::INFINITY, |b| b.1))
-                .fold(0.0, f32::max);
-        }
-        if e.t_near > far {
-            break;
-        }
-        let d = &g.disks[e.slot as usize];
-        for i in span(e) {
-            let ray = &rays[i];
-            if let Some((t, d2)) =
-                intersect_disk(ray, d.center, d.normal, d.radius, 0.0, f32::INFINITY)
-                && best[i].is_none_or(|(bs, bt, _)| {
-                    t < bt || (t == bt && g.bvh.lower_particle(e.slot, bs))
-                })
-                && !g.cut_off(e.slot, ray, t)
-            {
-                best[i] = Some((e.slot, t, d2));
-            }
-        }
-    }
-    best
-}
-
-/// Pass 2: each pixel's layer, blended, into `out`.
-#[inline(always)]
-fn blend<I: Iterator<Item = usize>>(
-    g: &DiskGeometry,
-    bin: &[Entry],
-    rays: &[Ray; RASTER_TILE * RASTER_TILE],
-    best: &Closest,
-    span: impl Fn(&Entry) -> I,
-    out: &mut [Option<SurfaceHit>; RASTER_TILE * RASTER_TILE],
-) {
-    let mut sums = [None; RASTER_TILE * RASTER_TILE];
-    let mut far = 0.0f32;
-    for (i, b) in best.iter().enumerate() {
-        if let Some(b) = b {
-            let (sum, _, t_end) = g.layer_start(&rays[i], f32::INFINITY, *b);
-            sums[i] = Some((sum, t_end));
-            far = far.max(t_end);
-        }
-    }
-    for e in bin {
-        if e.t_near >= far {
-            break;
-        }
-        let d = &g.disks[e.slot as usize];
-        for i in span(e) {
-            let (Some((slot0, _, _)), Some((sum, t_end))) = (best[i], &mut sums[i]) else {
-                continue;
-            };
-            let ray = &rays[i];
-            if e.slot != slot0
-                && let Some((t, d2)) =
-                    intersect_disk(ray, d.center, d.normal, d.radius, 0.0, *t_end)
-                && !g.cut_off(e.slot, ray, t)
-            {
-                g.layer_add(sum, ray, slot0, (e.slot, t, d2));
-            }
-        }
-    }
-    for (o, (s, ray)) in out.iter_mut().zip(sums.iter().zip(rays)) {
-        *o = s.map(|(sum, _)| layer_hit(ray, &sum));
+        let span_y = |e: &Entry| {
+            (
+                (e.y0 as usize).max(y0) - y0,
+                (e.y1 as usize).min(y1 - 1) - y0,
+            )
+        };
+        trace(self.geometry, bin, &rays, |e| (span(e), span_y(e)), out);
     }
 }
