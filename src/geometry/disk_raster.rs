@@ -32,6 +32,8 @@ use super::{Ray, SurfaceHit};
 /// rounding in the projection, the camera's rays and the exact test never drops a hit.
 const GROW_REL: f64 = 1e-4;
 const GROW_ABS: f64 = 1e-5;
+/// Most disks reaching the eye's plane (each tested by every ray) a raster is built with.
+const MAX_AT_EYE: usize = 64;
 /// Extra margin of a projected box, pixels.
 const MARGIN_PX: f64 = 0.01;
 
@@ -166,7 +168,8 @@ impl PinholeGrid {
 
 impl DiskGeometry {
     /// Bins the disks for the camera rays of `grid` (see the module docs); `None` if the grid
-    /// is not usable (non-finite, not orthonormal, or over 65535 pixels a side). Cost: one
+    /// is not usable (non-finite, not orthonormal, or over 65535 pixels a side) or more than 64
+    /// disks reach the eye's plane (each would be tested by every ray). Cost: one
     /// projection per disk (parallel), a counting sort into tiles, a sort of each tile's bin.
     pub fn primary_raster(&self, grid: &PinholeGrid) -> Option<PrimaryRaster<'_>> {
         if !grid.usable() {
@@ -181,6 +184,11 @@ impl DiskGeometry {
                 grid.project(d.center, d.radius)
             })
             .collect();
+        // Disks reaching the eye's plane are tested by every ray: past a few, the BVH is
+        // cheaper.
+        if projected.iter().filter(|p| matches!(p, Some(None))).count() > MAX_AT_EYE {
+            return None;
+        }
         let tiles_x = grid.width.div_ceil(RASTER_TILE);
         let tiles = tiles_x * grid.height.div_ceil(RASTER_TILE);
         let boxed = |s: usize| {
