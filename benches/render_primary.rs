@@ -3,6 +3,9 @@
 //! 1280×720 that the shell fills completely, traced in 16×16 tiles one ray at a time,
 //! single-threaded and with rayon. Also prints build time, bytes per particle and the
 //! single-thread throughput per CPU-second (unaffected by other processes on the machine) once.
+//! The same frame by rasterising the disks (`DiskGeometry::primary_layers`, its projection and
+//! binning included), checked to see the same layers, on one thread and with rayon, and both
+//! queries per CPU-second of the process with their ratio.
 //!
 //! Short runs: `cargo bench --bench render_primary -- --warm-up-time 1 --measurement-time 3`
 
@@ -10,7 +13,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use filmsplat::geometry::{DiskGeometry, Ray, SurfaceHit};
+use filmsplat::geometry::{DiskGeometry, PinholeGrid, RASTER_TILE, Ray, SurfaceHit};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -68,11 +71,42 @@ impl Camera {
         }
     }
 
+    /// The camera's pixel-centre grid for the rasterised query.
+    fn grid(&self) -> PinholeGrid {
+        PinholeGrid {
+            eye: self.eye,
+            forward: self.fwd,
+            right: self.right,
+            up: self.up,
+            half_width: self.h * W as f32 / H as f32,
+            half_height: self.h,
+            width: W,
+            height: H,
+        }
+    }
+
     fn ray(&self, x: usize, y: usize) -> Ray {
         let sx = (2.0 * (x as f32 + 0.5) / W as f32 - 1.0) * self.h * W as f32 / H as f32;
         let sy = (1.0 - 2.0 * (y as f32 + 0.5) / H as f32) * self.h;
         Ray::new(self.eye, self.fwd + sx * self.right + sy * self.up)
     }
+}
+
+/// CPU time of the whole process (all threads), seconds (Linux `/proc/self/stat`, 10 ms
+/// ticks); 0 where unavailable.
+fn process_cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map_or(vec![], |(_, rest)| rest.split_whitespace().collect());
+    // utime and stime are fields 14 and 15 of the line, 12 and 13 after the name.
+    let tick = |i: usize| {
+        fields
+            .get(i)
+            .and_then(|f| f.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    (tick(11) + tick(12)) / 100.0
 }
 
 type Query = fn(&DiskGeometry, &Ray, f32, f32) -> Option<SurfaceHit>;
@@ -148,6 +182,47 @@ fn benches(crit: &mut Criterion) {
         }
     }
 
+    // The same frame by rasterising the disks (projection and binning included), tile by
+    // tile as a renderer consumes it.
+    let raster = |g: &DiskGeometry| {
+        let r = g.primary_raster(&cam.grid()).unwrap();
+        (0..r.tiles())
+            .into_par_iter()
+            .map(|t| {
+                let mut out = [None; RASTER_TILE * RASTER_TILE];
+                r.tile(t, &|x, y| cam.ray(x, y), &mut out);
+                out.iter().flatten().fold((0.0, 0u32, 0u32), |a, h| {
+                    (a.0 + h.thickness_nm, a.1 + 1, a.2 + h.coverage)
+                })
+            })
+            .reduce(|| (0.0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2))
+    };
+    let (_, rhits, rcov) = raster(&g);
+    assert_eq!(
+        (rhits, rcov),
+        (hits, cov),
+        "the raster sees the same layers"
+    );
+    // Both on all threads, per CPU-second of the whole process (ten frames each, alternating).
+    let (mut cpu_bvh, mut cpu_raster) = (0.0, 0.0);
+    for _ in 0..10 {
+        let c0 = process_cpu_s();
+        black_box(frame_parallel(&g, &cam));
+        let c1 = process_cpu_s();
+        black_box(raster(&g));
+        let c2 = process_cpu_s();
+        cpu_bvh += c1 - c0;
+        cpu_raster += c2 - c1;
+    }
+    let rays = 10.0 * (W * H) as f64 * 1e-6;
+    eprintln!(
+        "rayon, per CPU-second of the process: intersect {:.2} M rays, raster {:.2} M \
+         rays, ratio {:.2}",
+        rays / cpu_bvh,
+        rays / cpu_raster,
+        cpu_bvh / cpu_raster
+    );
+
     let mut group = crit.benchmark_group("primary_1280x720");
     group.sample_size(10);
     group.throughput(Throughput::Elements((W * H) as u64));
@@ -157,6 +232,14 @@ fn benches(crit: &mut Criterion) {
     group.bench_function("disk_rayon", |b| {
         b.iter(|| black_box(frame_parallel(&g, &cam)))
     });
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    group.bench_function("raster_1thread", |b| {
+        b.iter(|| one.install(|| black_box(raster(&g))))
+    });
+    group.bench_function("raster_rayon", |b| b.iter(|| black_box(raster(&g))));
     group.finish();
 }
 

@@ -26,10 +26,10 @@ const MAX_CANDIDATES: usize = 48;
 /// While collecting, the traversal runs to `t + LIMIT_SLACK · band` of the current closest hit,
 /// so a later, slightly closer hit with a slightly wider band rarely needs the fallback (measured
 /// on a 1M-disk sphere shell: 50% fallbacks without slack, none with 1.25).
-const LIMIT_SLACK: f32 = 1.5;
+pub(super) const LIMIT_SLACK: f32 = 1.5;
 
 /// A disk hit: slot, distance, squared distance from the disk centre.
-type DiskHit = (u32, f32, f32);
+pub(super) type DiskHit = (u32, f32, f32);
 
 /// What the single-pass layer search collected: the closest disk hit, the candidates for its
 /// layer, and whether they are complete (see the module docs).
@@ -154,31 +154,8 @@ impl DiskGeometry {
     /// they may be incomplete, the disks a second traversal of the band finds.
     #[inline(always)]
     fn blend_layer(&self, ray: &Ray, t_min: f32, t_max: f32, search: &LayerSearch) -> SurfaceHit {
-        let order = &self.bvh.order;
-        let (slot0, t0, d2) = search.best;
-        let d0 = &self.disks[slot0 as usize];
-        let mut sum = LayerSum::new(
-            t0,
-            self.disk_normal_at(slot0, ray.at(t0)),
-            self.disk_thickness_at(slot0, ray.at(t0)),
-            order[slot0 as usize],
-            kernel(d2, d0.radius * d0.radius),
-        );
-        let band = self.blend.band(d0.radius, d0.normal.dot(ray.dir).abs());
-        let t_end = (t0 + band).min(t_max);
-        let min_dot = self.blend.min_normal_dot;
-        let mut add = |s: u32, t: f32, d2: f32| {
-            let d = &self.disks[s as usize];
-            if d.normal.dot(d0.normal).abs() > min_dot {
-                sum.add(
-                    t,
-                    self.disk_normal_at(s, ray.at(t)),
-                    self.disk_thickness_at(s, ray.at(t)),
-                    order[s as usize],
-                    kernel(d2, d.radius * d.radius),
-                );
-            }
-        };
+        let slot0 = search.best.0;
+        let (mut sum, t0, t_end) = self.layer_start(ray, t_max, search.best);
         if t_end > t0 {
             if search.overflow || t_end > search.min_lim {
                 self.bvh.visit_segment(ray, t0, t_end, |s| {
@@ -188,27 +165,67 @@ impl DiskGeometry {
                             intersect_disk(ray, d.center, d.normal, d.radius, t_min, t_end)
                         && !self.cut_off(s, ray, t)
                     {
-                        add(s, t, d2);
+                        self.layer_add(&mut sum, ray, slot0, (s, t, d2));
                     }
                 });
             } else {
                 for &(s, t, d2) in &search.cands[..search.nc] {
                     if t < t_end {
-                        add(s, t, d2);
+                        self.layer_add(&mut sum, ray, slot0, (s, t, d2));
                     }
                 }
             }
         }
-        let b = sum.finish();
-        SurfaceHit {
-            t: b.t,
-            t_exit: b.t_exit,
-            position: ray.at(b.t),
-            normal: b.normal,
-            thickness_nm: b.thickness_nm,
-            coverage: b.coverage,
-            particle: b.particle,
+        layer_hit(ray, &sum)
+    }
+
+    /// Starts the layer of the closest disk hit `best`: its running sum, its distance `t0` and
+    /// the end of its band (`min(t0 + band, t_max)`; members have `t < t_end`).
+    #[inline(always)]
+    pub(super) fn layer_start(&self, ray: &Ray, t_max: f32, best: DiskHit) -> (LayerSum, f32, f32) {
+        let (slot0, t0, d2) = best;
+        let d0 = &self.disks[slot0 as usize];
+        let sum = LayerSum::new(
+            t0,
+            self.disk_normal_at(slot0, ray.at(t0)),
+            self.disk_thickness_at(slot0, ray.at(t0)),
+            self.bvh.order[slot0 as usize],
+            kernel(d2, d0.radius * d0.radius),
+        );
+        let band = self.blend.band(d0.radius, d0.normal.dot(ray.dir).abs());
+        (sum, t0, (t0 + band).min(t_max))
+    }
+
+    /// Adds the disk hit `hit` (another disk than `slot0`, within the band) to the layer of
+    /// the closest disk `slot0` if its normal agrees with that disk's.
+    #[inline(always)]
+    pub(super) fn layer_add(&self, sum: &mut LayerSum, ray: &Ray, slot0: u32, hit: DiskHit) {
+        let (s, t, d2) = hit;
+        let d = &self.disks[s as usize];
+        if d.normal.dot(self.disks[slot0 as usize].normal).abs() > self.blend.min_normal_dot {
+            sum.add(
+                t,
+                self.disk_normal_at(s, ray.at(t)),
+                self.disk_thickness_at(s, ray.at(t)),
+                self.bvh.order[s as usize],
+                kernel(d2, d.radius * d.radius),
+            );
         }
+    }
+}
+
+/// The blended crossing of a finished layer sum.
+#[inline(always)]
+pub(super) fn layer_hit(ray: &Ray, sum: &LayerSum) -> SurfaceHit {
+    let b = sum.finish();
+    SurfaceHit {
+        t: b.t,
+        t_exit: b.t_exit,
+        position: ray.at(b.t),
+        normal: b.normal,
+        thickness_nm: b.thickness_nm,
+        coverage: b.coverage,
+        particle: b.particle,
     }
 }
 
@@ -216,13 +233,13 @@ impl DiskGeometry {
 /// candidates beyond the current band end `keep` (if the band grows again later, `min_lim`
 /// sends the query to the exact fallback). Returns false if `c` still did not fit.
 #[inline]
-fn push_candidate(
-    cands: &mut [DiskHit; MAX_CANDIDATES],
+pub(super) fn push_candidate<const N: usize>(
+    cands: &mut [DiskHit; N],
     nc: &mut usize,
     c: DiskHit,
     keep: f32,
 ) -> bool {
-    if *nc == MAX_CANDIDATES {
+    if *nc == N {
         let mut k = 0;
         for i in 0..*nc {
             if cands[i].1 <= keep {
@@ -232,7 +249,7 @@ fn push_candidate(
         }
         *nc = k;
     }
-    if *nc < MAX_CANDIDATES {
+    if *nc < N {
         cands[*nc] = c;
         *nc += 1;
         true

@@ -9,7 +9,8 @@
 //! * [`Bvh`]: a binned-SAH bounding volume hierarchy over any set of boxes, queried with closures.
 //! * [`FilmGeometry`]: the closed set of film geometries the renderer queries for
 //!   [`SurfaceHit`]s, one variant each:
-//!   * [`DiskGeometry`]: particles as blended disks (four-wide leaf tests, `disk4`);
+//!   * [`DiskGeometry`]: particles as blended disks (four-wide leaf tests, `disk4`; camera rays
+//!     of a pinhole grid by rasterisation, [`PrimaryRaster`]);
 //!   * [`SphereGeometry`]: particles as spheres (`sphere4`);
 //!   * [`MeshGeometry`]: a triangle mesh drawn as a film (for comparisons with meshed renders);
 //!   * [`MlsSurface`]: the smooth moving-least-squares surface of the particles, ray traced
@@ -27,6 +28,8 @@ mod bvh_bins;
 mod bvh_build;
 mod disk4;
 mod disk_query;
+mod disk_raster;
+mod disk_raster_tile;
 mod disks;
 mod droplets;
 mod film;
@@ -49,6 +52,8 @@ use glam::Vec3;
 pub use aabb::Aabb;
 pub use blend::LayerBlend;
 pub use bvh::{BvhNode, BvhParams};
+pub use disk_raster::{PinholeGrid, PrimaryRaster};
+pub use disk_raster_tile::RASTER_TILE;
 pub use disks::DiskGeometry;
 pub use droplets::{DropletHit, Droplets, GrownDroplets, GrownHit, WATER_IOR};
 pub use film::FilmGeometry;

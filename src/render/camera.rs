@@ -102,6 +102,11 @@ impl Camera {
         self.up
     }
 
+    /// Unit right vector of the image plane (perpendicular to both).
+    pub fn right(&self) -> Vec3 {
+        self.right
+    }
+
     /// tan(fov_y / 2): the picture's half-height at unit distance along the view.
     pub fn tan_half_fov(&self) -> f32 {
         self.tan_half_fov

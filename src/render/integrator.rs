@@ -12,7 +12,7 @@
 //! once, generic over RGB and spectral radiance; `--shading spectral` runs the spectral
 //! instance, the other modes the RGB one.
 
-use super::primary::FirstHits;
+use super::primary::{FirstHits, TileFilm, camera_raster, tile_film};
 use super::radiance::{Lanes, RgbLanes, SpectralLanes};
 use super::sampler::{Pcg32, mix64};
 use super::shading::{FilmShader, SampleShading, ShadingMode};
@@ -52,6 +52,8 @@ pub struct RenderOutput {
 }
 
 const TILE: usize = 16;
+// The camera rays' raster answers whole render tiles.
+const _: () = assert!(TILE == crate::geometry::RASTER_TILE);
 
 /// Renders `scene` (a `&World`, or a [`WorldRef`] of borrowed parts) with `shader` and
 /// `settings`. Deterministic for a given seed. Reads the scene only: renders of one scene with
@@ -105,6 +107,7 @@ pub fn render<'a>(
         )));
     }
     let tracer = Tracer::new(scene, settings);
+    let raster = camera_raster(&scene, settings);
     let tiles_x = w.div_ceil(TILE);
     let tiles: Vec<(usize, usize)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..tiles_x).map(move |tx| (tx * TILE, ty * TILE)))
@@ -116,7 +119,10 @@ pub fn render<'a>(
             if cancelled(settings) {
                 return Tile::empty(x0, y0);
             }
-            let tile = render_tile(&tracer, shader, x0, y0);
+            let film = raster
+                .as_ref()
+                .map(|r| tile_film(r, &tracer.scene, settings, (x0, y0)));
+            let tile = render_tile(&tracer, shader, x0, y0, film.as_ref());
             bar.inc(1);
             if let Some(done) = &settings.tiles_done {
                 done.fetch_add(1, Ordering::Relaxed);
@@ -151,8 +157,15 @@ impl Tile {
 }
 
 /// Renders the tile with top-left pixel `(x0, y0)`; each pixel's random stream is seeded by
-/// its index, so the image does not depend on how tiles are scheduled.
-fn render_tile(tracer: &Tracer, shader: &FilmShader, x0: usize, y0: usize) -> Tile {
+/// its index, so the image does not depend on how tiles are scheduled. `film`: the camera
+/// rays' film crossings from the raster, where it applies.
+fn render_tile(
+    tracer: &Tracer,
+    shader: &FilmShader,
+    x0: usize,
+    y0: usize,
+    film: Option<&TileFilm>,
+) -> Tile {
     let settings = tracer.settings;
     let (w, h) = (settings.width, settings.height);
     let aspect = w as f32 / h as f32;
@@ -171,7 +184,8 @@ fn render_tile(tracer: &Tracer, shader: &FilmShader, x0: usize, y0: usize) -> Ti
                 rng: Pcg32::new(settings.seed, mix64((y * w + x) as u64)),
                 rays: 0,
             };
-            let px = Px { x, y, aspect };
+            let film = film.map(|f| f[(y - y0) * TILE + x - x0]);
+            let px = Px { x, y, aspect, film };
             let pixel = render_pixel(tracer, shader, px, &mut st, &mut shading, &mut u);
             tile.pixels.push(pixel);
             tile.rays += st.rays;
@@ -223,6 +237,8 @@ struct Px {
     x: usize,
     y: usize,
     aspect: f32,
+    /// The camera ray's film crossing from the raster (one sample at the pixel centre).
+    film: Option<Option<crate::geometry::SurfaceHit>>,
 }
 
 #[derive(Default)]
@@ -380,13 +396,13 @@ fn camera_sample(
     // The first crossing feeds the auxiliary buffers, then the ray tree.
     if shader.mode() == ShadingMode::Spectral {
         let lanes = SpectralLanes::new(shading, shader.ior());
-        first(tr, &lanes, &ray, st)
+        first(tr, &lanes, &ray, st, px.film)
     } else {
         let lanes = RgbLanes {
             shader,
             state: shading,
         };
-        first(tr, &lanes, &ray, st)
+        first(tr, &lanes, &ray, st, px.film)
     }
 }
 
@@ -396,8 +412,9 @@ fn first<L: Lanes>(
     l: &L,
     ray: &crate::geometry::Ray,
     st: &mut PathState,
+    film: Option<Option<crate::geometry::SurfaceHit>>,
 ) -> (Vec3, FirstHits) {
-    let (c, seen) = tr.camera_trace(l, ray, st);
+    let (c, seen) = tr.camera_trace(l, ray, st, film);
     (l.to_rgb(c), seen)
 }
 

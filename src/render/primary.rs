@@ -8,11 +8,73 @@
 //! rest. Over a pixel's samples the expected droplet share is π r² / pixel area (the sample
 //! falls in the grown disk with probability π g² / A); a droplet larger than its footprint has
 //! g = r and covers its samples fully, as before.
+//!
+//! With one sample at each pixel's centre, a pinhole camera, disks and no droplets, the camera
+//! rays' film crossings come from rasterising the disks ([`PrimaryRaster`], tile by tile)
+//! instead of one BVH query per ray: the same layers, blended up to the order of the float
+//! sums. Only with at least one pixel per two disks: every disk is projected, and on the 1M
+//! bubble at 960×540 (0.52 pixels a disk) the whole render already costs what it did.
 
 use super::radiance::{Lanes, Radiance};
 use super::transport::{Branch, PathState, Tracer};
-use crate::geometry::{Ray, SurfaceHit};
+use super::world::{RenderSettings, WorldRef};
+use crate::geometry::{FilmGeometry, PinholeGrid, PrimaryRaster, RASTER_TILE, Ray, SurfaceHit};
 use glam::Vec3;
+
+/// The camera rays' film crossings of one raster tile, row-major, [`RASTER_TILE`] a row.
+pub(crate) type TileFilm = [Option<SurfaceHit>; RASTER_TILE * RASTER_TILE];
+
+/// The disks binned for the camera rays of this render, where the raster applies (see the
+/// module docs); `None` otherwise.
+pub(crate) fn camera_raster<'a>(
+    scene: &WorldRef<'a>,
+    settings: &RenderSettings,
+) -> Option<PrimaryRaster<'a>> {
+    let (FilmGeometry::Disks(disks), 1) = (scene.geometry, settings.spp) else {
+        return None;
+    };
+    let camera = scene.camera;
+    let pixels = settings.width.saturating_mul(settings.height);
+    if camera.has_lens() || !scene.staging.droplets.is_empty() || 2 * pixels < disks.len() {
+        return None;
+    }
+    let aspect = settings.width as f32 / settings.height as f32;
+    disks.primary_raster(&PinholeGrid {
+        eye: camera.position,
+        forward: camera.forward(),
+        right: camera.right(),
+        up: camera.up(),
+        half_width: camera.tan_half_fov() * aspect,
+        half_height: camera.tan_half_fov(),
+        width: settings.width,
+        height: settings.height,
+    })
+}
+
+/// The film crossings of the camera rays through the centres of the tile whose top-left pixel
+/// is (`x0`, `y0`) (a multiple of [`RASTER_TILE`]).
+pub(crate) fn tile_film(
+    raster: &PrimaryRaster,
+    scene: &WorldRef,
+    settings: &RenderSettings,
+    (x0, y0): (usize, usize),
+) -> TileFilm {
+    let (w, h) = (settings.width, settings.height);
+    let aspect = w as f32 / h as f32;
+    let camera = scene.camera;
+    // The ray `camera_sample` casts through the pixel centre, bit for bit.
+    let ray = |x: usize, y: usize| {
+        camera.ray(
+            (x as f32 + 0.5) / w as f32,
+            (y as f32 + 0.5) / h as f32,
+            aspect,
+        )
+    };
+    let t = (y0 / RASTER_TILE) * w.div_ceil(RASTER_TILE) + x0 / RASTER_TILE;
+    let mut out = [None; RASTER_TILE * RASTER_TILE];
+    raster.tile(t, &ray, &mut out);
+    out
+}
 
 /// Most partly covering droplets followed along one camera ray; what is left after them is
 /// seen through the last.
@@ -33,12 +95,14 @@ pub(crate) struct FirstHits {
 }
 
 impl Tracer<'_> {
-    /// Radiance along camera ray `ray`, and what it meets first (see the module docs).
+    /// Radiance along camera ray `ray`, and what it meets first (see the module docs); `film`,
+    /// when `Some`, is the ray's film crossing from the raster.
     pub(super) fn camera_trace<L: Lanes>(
         &self,
         l: &L,
         ray: &Ray,
         st: &mut PathState,
+        film: Option<Option<SurfaceHit>>,
     ) -> (L::C, FirstHits) {
         let drops = &self.scene.staging.droplets;
         let mut first = FirstHits::default();
@@ -81,7 +145,9 @@ impl Tracer<'_> {
             depth: 0,
             weight: L::C::splat(rest),
         };
-        let (c, hit) = self.nearest(l, behind, st);
+        // The raster's crossing holds for the ray from its origin on (no droplet moved it).
+        let film = film.filter(|_| t_min == 0.0);
+        let (c, hit) = self.nearest_with(l, behind, st, film);
         first.film = hit.map(|h| (h, rest));
         (sum + c * rest, first)
     }

@@ -156,6 +156,19 @@ impl<'a> Tracer<'a> {
         b: Branch<'_, L::C>,
         st: &mut PathState,
     ) -> (L::C, Option<SurfaceHit>) {
+        self.nearest_with(l, b, st, None)
+    }
+
+    /// As [`nearest`](Self::nearest), with the film crossing already known when `film` is
+    /// `Some` (what `geometry.intersect(ray, t_min, ∞)` answers, e.g. from the camera rays'
+    /// raster).
+    pub fn nearest_with<L: Lanes>(
+        &self,
+        l: &L,
+        b: Branch<'_, L::C>,
+        st: &mut PathState,
+        film: Option<Option<SurfaceHit>>,
+    ) -> (L::C, Option<SurfaceHit>) {
         let Branch {
             ray,
             t_min,
@@ -164,7 +177,7 @@ impl<'a> Tracer<'a> {
         } = b;
         st.rays += 1;
         let staging = &self.scene.staging;
-        let film = self.scene.geometry.intersect(ray, t_min, f32::INFINITY);
+        let film = film.unwrap_or_else(|| self.scene.geometry.intersect(ray, t_min, f32::INFINITY));
         let mut t_max = film.as_ref().map_or(f32::INFINITY, |h| h.t);
         let droplet = if staging.droplets.is_empty() {
             None
