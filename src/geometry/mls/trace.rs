@@ -32,12 +32,35 @@ impl MlsSurface {
     /// then per support interval up to the crossing O(spheres) to bound where the tangent
     /// planes allow a crossing (see the `band` module) and ~3–6 evaluations of f inside that
     /// band, each over the spheres covering that point.
+    /// Where [`MlsSurface::set_own_disks`] gave the particles disks that the surface may leave
+    /// bare, a crossing of such a disk with no crossing of the surface near it comes first
+    /// (the `fallback` module); a surface without them pays nothing for that.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
+        let (hit, crossed) = self.surface_hit_after(ray, t_min, t_max);
+        self.with_own_disks(ray, (t_min, t_max), hit, crossed)
+    }
+
+    /// The first crossing of the surface alone (see [`MlsSurface::intersect`]).
+    pub(super) fn surface_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
+        self.surface_hit_after(ray, t_min, t_max).0
+    }
+
+    /// [`MlsSurface::surface_hit`], and the crossing found by the last query on this thread if
+    /// it was on the same ray (NaN if none).
+    fn surface_hit_after(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<SurfaceHit>, f32) {
+        if t_min >= t_max {
+            return (None, f32::NAN);
+        }
         GATHERED.with_borrow_mut(|g| {
             let key = QueryKey::new(self.id, ray, t_max);
+            let crossed = if g.key == Some(key) {
+                g.crossed
+            } else {
+                f32::NAN
+            };
             if g.key == Some(key) && t_min >= g.from {
                 // The same ray further on: the spheres it is still inside or enters later are
                 // exactly the kept ones that end beyond `t_min`.
@@ -50,7 +73,9 @@ impl MlsSurface {
                 g.key = Some(key);
             }
             g.from = t_min;
-            self.march_sheets(ray, &mut g.cands)
+            let hit = self.march_sheets(ray, &mut g.cands);
+            g.crossed = hit.map_or(crossed, |h| h.t);
+            (hit, crossed)
         })
     }
 
