@@ -91,6 +91,11 @@ impl Fallback {
         self.disks.len()
     }
 
+    /// True if there are no disks.
+    pub(super) fn is_empty(&self) -> bool {
+        self.disks.is_empty()
+    }
+
     /// Heap bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
         self.disks.capacity() * std::mem::size_of::<OwnDisk>()

@@ -39,24 +39,34 @@ impl MlsSurface {
         if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
-        let (hit, crossed) = self.surface_hit_after(ray, t_min, t_max);
+        if self.fallback.is_empty() {
+            return self.gathered_hit::<false>(ray, t_min, t_max).0;
+        }
+        let (hit, crossed) = self.gathered_hit::<true>(ray, t_min, t_max);
         self.with_own_disks(ray, (t_min, t_max), hit, crossed)
     }
 
     /// The first crossing of the surface alone (see [`MlsSurface::intersect`]).
     pub(super) fn surface_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        self.surface_hit_after(ray, t_min, t_max).0
+        if t_min >= t_max {
+            return None;
+        }
+        self.gathered_hit::<true>(ray, t_min, t_max).0
     }
 
-    /// [`MlsSurface::surface_hit`], and the crossing found by the last query on this thread if
-    /// it was on the same ray (NaN if none).
-    fn surface_hit_after(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<SurfaceHit>, f32) {
-        if t_min >= t_max {
-            return (None, f32::NAN);
-        }
+    /// The first crossing of the surface in `(t_min, t_max)` (`t_min < t_max`) from the
+    /// spheres this thread keeps for the ray or gathers now; with `TRACK`, also the crossing
+    /// found by the last such query if it was on the same ray (NaN if none), and this one kept
+    /// for the next (without, the crossing returned is NaN and none is kept).
+    fn gathered_hit<const TRACK: bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> (Option<SurfaceHit>, f32) {
         GATHERED.with_borrow_mut(|g| {
             let key = QueryKey::new(self.id, ray, t_max);
-            let crossed = if g.key == Some(key) {
+            let crossed = if TRACK && g.key == Some(key) {
                 g.crossed
             } else {
                 f32::NAN
@@ -74,7 +84,9 @@ impl MlsSurface {
             }
             g.from = t_min;
             let hit = self.march_sheets(ray, &mut g.cands);
-            g.crossed = hit.map_or(crossed, |h| h.t);
+            if TRACK {
+                g.crossed = hit.map_or(crossed, |h| h.t);
+            }
             (hit, crossed)
         })
     }
