@@ -245,3 +245,26 @@ fn the_mls_surface_draws_every_piece_of_film_a_torn_rim_holds() {
         "pieces of film without film drawn: {bare:?} px"
     );
 }
+
+#[test]
+fn the_mls_surface_draws_the_film_beside_a_rolled_rim_its_particles_hold() {
+    // Bursting frame 30 (film only: 2,540 particles, the rim just torn and rolling up) as the
+    // MLS surface at 1 spp (`--preset preview`), 960×540, default camera: a piece of 99 px of
+    // the film the particles' own areas hold, beside the rolled rim, was left bare, the blend
+    // of tangent planes running off the particles there. The particles whose own disk the
+    // surface may leave bare now draw their disk where the surface has no crossing near it
+    // (`geometry::mls` `fallback`): every piece of 8+ px shows film.
+    let mut desc = preview("thin-film-sph/bursting_bubble/30");
+    desc.film.primitive = Some("mls".into());
+    let pieces = data_pieces(&desc, 8);
+    let bare: Vec<usize> = pieces.iter().filter(|p| p.1 == 0).map(|p| p.0).collect();
+    eprintln!(
+        "bursting 30 mls: {} pieces of 8+ px, bare: {bare:?}",
+        pieces.len()
+    );
+    assert!(!pieces.is_empty(), "no film");
+    assert!(
+        bare.is_empty(),
+        "pieces of film without film drawn: {bare:?} px"
+    );
+}

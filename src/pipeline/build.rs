@@ -138,16 +138,24 @@ pub(super) fn film_geometry(
         }
         Primitive::Sphere => Ok(SphereGeometry::build(positions, n, radii, thickness)?.into()),
         Primitive::Mls => {
+            let own = own_radii(cloud);
+            let fitted = radii;
             let cut: Vec<f32>;
             let radii = if cuts.is_empty() {
                 radii
             } else {
-                cut = mls_radii(radii, cuts, &own_radii(cloud));
+                cut = mls_radii(radii, cuts, &own);
                 &cut
             };
             let mut surface = MlsSurface::build(positions, n, radii, thickness)?;
             if !sheets.is_empty() {
                 surface.set_sheets(sheets)?;
+            }
+            // The film the particles' own areas hold is drawn, as their fitted and cut disks,
+            // where the surface leaves it bare.
+            if own.len() == positions.len() {
+                let clips: Vec<_> = cuts.iter().map(Cut::clip).collect();
+                surface.set_own_disks(&own, Some((fitted, &clips)))?;
             }
             Ok(surface.into())
         }

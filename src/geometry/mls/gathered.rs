@@ -13,8 +13,32 @@ thread_local! {
             cands: Vec::new(),
             key: None,
             from: 0.0,
+            crossed: f32::NAN,
         })
     };
+}
+
+thread_local! {
+    /// A second [`Gathered`], swapped in by [`aside`].
+    static ASIDE: RefCell<Gathered> = const {
+        RefCell::new(Gathered {
+            cands: Vec::new(),
+            key: None,
+            from: 0.0,
+            crossed: f32::NAN,
+        })
+    };
+}
+
+/// Runs `query` with a second set of kept spheres in place of this thread's, and puts them
+/// back after: a query on another stretch of the ray (the band around a disk, the `fallback`
+/// module) leaves the ray's kept spheres for its continuation.
+pub(super) fn aside<R>(query: impl FnOnce() -> R) -> R {
+    let swap = || GATHERED.with(|g| ASIDE.with(|a| g.swap(a)));
+    swap();
+    let r = query();
+    swap();
+    r
 }
 
 /// The support spheres gathered by the last query on this thread.
@@ -25,6 +49,9 @@ pub(super) struct Gathered {
     pub key: Option<QueryKey>,
     /// Start of the query they were gathered (or last clipped) for.
     pub from: f32,
+    /// The last surface crossing found on this ray (NaN: none), so a disk of the film just
+    /// crossed is known to be drawn without a query of its own (the `fallback` module).
+    pub crossed: f32,
 }
 
 /// A surface (by [`MlsSurface`](super::MlsSurface)'s id) and a ray and `t_max`, bit for bit.

@@ -14,6 +14,11 @@
 //!   bubble, oriented per bubble) can be labelled as sheets ([`MlsSurface::set_sheets`]): f
 //!   then blends one sheet's particles at a time, so the walls run into their junctions instead
 //!   of cancelling there (the `sheets` module).
+//! * **Own disks.** Where the particles carry their own areas, [`MlsSurface::set_own_disks`]
+//!   guarantees the surface draws at least the film they hold: a particle whose own disk the
+//!   surface may leave bare (probed at the build), and its neighbours, draw their disk where the
+//!   surface has no crossing near it (the `fallback` module). Without such particles a ray
+//!   query pays nothing for this.
 //! * **Rays** (Adamson & Alexa 2003, "Ray tracing point set surfaces"): the surface lies inside
 //!   the union of the support spheres. One BVH traversal collects every sphere the ray
 //!   crosses; they are merged into intervals of the ray. f is a weighted mean of the distances
@@ -32,6 +37,7 @@
 //! Queries are `&self` and thread-safe.
 
 mod band;
+mod fallback;
 mod field;
 mod gather;
 mod gathered;
@@ -47,6 +53,7 @@ use super::particles::{check_particles, particle_bvh};
 use super::primitives::sphere_bounds;
 use super::{Aabb, Bvh};
 use crate::{Error, Result};
+use fallback::Fallback;
 use field::Cand;
 
 /// Parameters of the MLS surface.
@@ -122,6 +129,8 @@ pub struct MlsSurface {
     id: u64,
     /// Each slot's sheet (empty: one sheet; see [`MlsSurface::set_sheets`]).
     sheets: Vec<u32>,
+    /// The particles' own disks the surface may leave bare ([`MlsSurface::set_own_disks`]).
+    fallback: Fallback,
 }
 
 /// Source of [`MlsSurface`] ids.
@@ -196,6 +205,7 @@ impl MlsSurface {
             weight_threshold: 0.0,
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             sheets: Vec::new(),
+            fallback: Fallback::default(),
         };
         surface.weight_threshold = params.min_weight * surface.median_particle_weight();
         Ok(surface)
@@ -320,6 +330,7 @@ impl MlsSurface {
         self.bvh.memory_bytes()
             + self.particles.capacity() * std::mem::size_of::<MlsParticle>()
             + self.sheets.capacity() * 4
+            + self.fallback.memory_bytes()
     }
 }
 

@@ -32,12 +32,45 @@ impl MlsSurface {
     /// then per support interval up to the crossing O(spheres) to bound where the tangent
     /// planes allow a crossing (see the `band` module) and ~3–6 evaluations of f inside that
     /// band, each over the spheres covering that point.
+    /// Where [`MlsSurface::set_own_disks`] gave the particles disks that the surface may leave
+    /// bare, a crossing of such a disk with no crossing of the surface near it comes first
+    /// (the `fallback` module); a surface without them pays nothing for that.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         if !ray.is_valid() || t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
+        if self.fallback.is_empty() {
+            return self.gathered_hit::<false>(ray, t_min, t_max).0;
+        }
+        let (hit, crossed) = self.gathered_hit::<true>(ray, t_min, t_max);
+        self.with_own_disks(ray, (t_min, t_max), hit, crossed)
+    }
+
+    /// The first crossing of the surface alone (see [`MlsSurface::intersect`]).
+    pub(super) fn surface_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
+        if t_min >= t_max {
+            return None;
+        }
+        self.gathered_hit::<true>(ray, t_min, t_max).0
+    }
+
+    /// The first crossing of the surface in `(t_min, t_max)` (`t_min < t_max`) from the
+    /// spheres this thread keeps for the ray or gathers now; with `TRACK`, also the crossing
+    /// found by the last such query if it was on the same ray (NaN if none), and this one kept
+    /// for the next (without, the crossing returned is NaN and none is kept).
+    fn gathered_hit<const TRACK: bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> (Option<SurfaceHit>, f32) {
         GATHERED.with_borrow_mut(|g| {
             let key = QueryKey::new(self.id, ray, t_max);
+            let crossed = if TRACK && g.key == Some(key) {
+                g.crossed
+            } else {
+                f32::NAN
+            };
             if g.key == Some(key) && t_min >= g.from {
                 // The same ray further on: the spheres it is still inside or enters later are
                 // exactly the kept ones that end beyond `t_min`.
@@ -50,7 +83,11 @@ impl MlsSurface {
                 g.key = Some(key);
             }
             g.from = t_min;
-            self.march_sheets(ray, &mut g.cands)
+            let hit = self.march_sheets(ray, &mut g.cands);
+            if TRACK {
+                g.crossed = hit.map_or(crossed, |h| h.t);
+            }
+            (hit, crossed)
         })
     }
 
