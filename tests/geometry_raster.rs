@@ -92,16 +92,8 @@ fn same_crossing(a: &SurfaceHit, b: &SurfaceHit, at: &str) {
 /// A Fibonacci shell of `n` disks of radius 0.9–1.5× the spacing around the origin (unit
 /// radius), normals outward.
 fn shell(n: usize, rng: &mut Rng) -> DiskGeometry {
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
     let spacing = (4.0 * std::f32::consts::PI / n as f32).sqrt();
-    let pos: Vec<Vec3> = (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
-            let r = (1.0 - z * z).sqrt();
-            let a = golden * i as f32;
-            Vec3::new(r * a.cos(), r * a.sin(), z)
-        })
-        .collect();
+    let pos = filmsplat::samples::fibonacci_sphere(n, 1.0);
     let radii: Vec<f32> = (0..n).map(|_| rng.range(0.9, 1.5) * spacing).collect();
     let thk: Vec<f32> = pos.iter().map(|p| 500.0 + 300.0 * p.z).collect();
     DiskGeometry::build(&pos, &pos, &radii, &thk).unwrap()

@@ -12,16 +12,8 @@ use glam::Vec3;
 /// A Fibonacci shell of `n` disks around the origin, radii 1.2× the spacing, thickness
 /// varying with height.
 fn shell(n: usize) -> DiskGeometry {
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
     let spacing = (4.0 * std::f32::consts::PI / n as f32).sqrt();
-    let pos: Vec<Vec3> = (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
-            let r = (1.0 - z * z).sqrt();
-            let a = golden * i as f32;
-            Vec3::new(r * a.cos(), r * a.sin(), z)
-        })
-        .collect();
+    let pos = filmsplat::samples::fibonacci_sphere(n, 1.0);
     let thk: Vec<f32> = pos.iter().map(|p| 500.0 + 300.0 * p.y).collect();
     DiskGeometry::build(&pos, &pos, &vec![1.2 * spacing; n], &thk).unwrap()
 }

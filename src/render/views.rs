@@ -305,19 +305,24 @@ mod tests {
     use crate::geometry::DiskGeometry;
     use crate::render::{Camera, Environment};
 
-    #[test]
-    fn thickness_view_maps_the_range_and_leaves_background() {
-        // Two disks side by side, 100 and 500 nm.
+    /// Two disks side by side at x = ∓1 of thicknesses `t` (nm), seen face-on from +z.
+    fn two_disks(t: [f32; 2]) -> World {
         let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
-        let geometry = DiskGeometry::build(&p, &[Vec3::Z; 2], &[0.9; 2], &[100.0, 500.0]).unwrap();
-        let scene = World {
+        let geometry = DiskGeometry::build(&p, &[Vec3::Z; 2], &[0.9; 2], &t).unwrap();
+        World {
             geometry: geometry.into(),
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
             environment: Environment::Uniform(Vec3::ONE),
             layer_skip: 0.1,
             epsilon: 1e-5,
             staging: Default::default(),
-        };
+        }
+    }
+
+    #[test]
+    fn thickness_view_maps_the_range_and_leaves_background() {
+        // Two disks side by side, 100 and 500 nm.
+        let scene = two_disks([100.0, 500.0]);
         let v = render_view(&scene, View::Thickness, 40, 20).unwrap();
         let legend = v.legend.unwrap();
         assert!(
@@ -344,17 +349,7 @@ mod tests {
         // last f32 bits, and the view stretched those over the whole ramp (a speckle of five
         // colours under a bar saying `all 1938.32`).
         let h = 1938.32f32;
-        let p = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
-        let t = [h, f32::from_bits(h.to_bits() + 1)];
-        let geometry = DiskGeometry::build(&p, &[Vec3::Z; 2], &[0.9; 2], &t).unwrap();
-        let scene = World {
-            geometry: geometry.into(),
-            camera: Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 20.0),
-            environment: Environment::Uniform(Vec3::ONE),
-            layer_skip: 0.1,
-            epsilon: 1e-5,
-            staging: Default::default(),
-        };
+        let scene = two_disks([h, f32::from_bits(h.to_bits() + 1)]);
         let v = render_view(&scene, View::Thickness, 40, 20).unwrap();
         let legend = v.legend.unwrap();
         assert!(legend.max > legend.min, "{legend:?}");
