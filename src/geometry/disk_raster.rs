@@ -2,8 +2,9 @@
 //! once per ray ([`DiskGeometry::primary_raster`]).
 //!
 //! Every camera ray starts at the eye, so the pixels whose rays can meet a disk are known in
-//! closed form: the box around the projection of the disk's bounding sphere. Each disk is
-//! projected once and binned into the image's 16×16 tiles, sorted front to back by the nearest
+//! closed form: the box around the projection of the disk's rim (an ellipse; the box of its
+//! bounding sphere's projection when the disk comes close to the eye's plane), grown for
+//! rounding. Each disk is projected once and binned into the image's 16×16 tiles, sorted front to back by the nearest
 //! distance of its sphere from the eye. A tile then runs two passes over its bin:
 //!
 //! 1. the closest disk hit of every pixel (a z-buffer of exact ray–disk tests, ties to the
@@ -75,13 +76,14 @@ pub struct PrimaryRaster<'g> {
 }
 
 impl PinholeGrid {
-    /// The box of pixels whose rays can meet a sphere (`c`, `r`) and the nearest distance of
-    /// the sphere from the eye; `Some(None)` for a sphere reaching the eye's plane, `None` for
-    /// one that no ray of the grid can meet.
-    fn project(&self, c: Vec3, r: f32) -> Option<Option<Entry>> {
+    /// The box of pixels whose rays can meet the disk (`c`, `r`, unit normal `n`) and the
+    /// nearest distance of its bounding sphere from the eye; `Some(None)` for a sphere reaching
+    /// the eye's plane, `None` for a disk that no ray of the grid can meet.
+    fn project(&self, c: Vec3, r: f32, n: Vec3) -> Option<Option<Entry>> {
         let oc = (c - self.eye).as_dvec3();
         let dist = oc.length();
-        let r = r as f64 * (1.0 + GROW_REL) + GROW_ABS * dist;
+        let slab = GROW_ABS * dist;
+        let r = r as f64 * (1.0 + GROW_REL) + slab;
         let basis = |v: Vec3| oc.dot(v.as_dvec3());
         let (cx, cy, cz) = (basis(self.right), basis(self.up), basis(self.forward));
         if cz < -r || self.outside_frustum(cx, cy, cz, r) {
@@ -90,15 +92,33 @@ impl PinholeGrid {
         if cz <= 1.01 * r {
             return Some(None);
         }
-        // Tangent planes through the eye containing the up (right) axis: slopes u = x / z of
-        // the lines through the origin tangent to the circle (cx, cz, r), both roots of
-        // u² (cz² − r²) − 2 u cx cz + cx² − r² = 0.
-        let slopes = |a: f64| {
+        let nb = |v: Vec3| n.dot(v) as f64;
+        let (nx, ny, nz) = (nb(self.right), nb(self.up), nb(self.forward));
+        // The disk (grown radius r) thickened by a slab of half-width `slab` (the off-plane
+        // reach of an accepted hit's rounding): its support along m is at most
+        // √((r + slab)(r |m − (m·n) n|² + slab |m|²)) ((a + b)² ≤ (1 + k) a² + (1 + 1/k) b²,
+        // k = slab / r). The tangent planes through the eye containing the up (right) axis,
+        // m = (1, 0, −u): (cx − u cz)² = R r (1 + u² − (nx − u nz)²) + R slab (1 + u²) with
+        // R = r + slab, i.e. q u² − 2 b u + k = 0; q > 0 keeps the set in front of the eye's
+        // plane (else the sphere's box).
+        let (rr, ss) = ((r + slab) * r, (r + slab) * (r + slab));
+        let q = cz * cz - ss + rr * nz * nz;
+        let slopes = |a: f64, na: f64| {
+            let b = a * cz + rr * na * nz;
+            let k = a * a - ss + rr * na * na;
+            let s = (b * b - q * k).max(0.0).sqrt();
+            ((b - s) / q, (b + s) / q)
+        };
+        // The sphere's tangent planes: roots of u² (cz² − r²) − 2 u cx cz + cx² − r² = 0.
+        let sphere = |a: f64| {
             let (q, s) = (cz * cz - r * r, r * (a * a + cz * cz - r * r).sqrt());
             ((a * cz - s) / q, (a * cz + s) / q)
         };
-        let (u0, u1) = slopes(cx);
-        let (v0, v1) = slopes(cy);
+        let ((u0, u1), (v0, v1)) = if q > 0.03 * cz * cz {
+            (slopes(cx, nx), slopes(cy, ny))
+        } else {
+            (sphere(cx), sphere(cy))
+        };
         let (w, h) = (self.width as f64, self.height as f64);
         // Pixel coordinates of the ray's (u, v), inverted from the grid's definition.
         let px = |u: f64| (u / self.half_width as f64 + 1.0) * 0.5 * w - 0.5;
@@ -181,7 +201,7 @@ impl DiskGeometry {
             .with_min_len(4096)
             .map(|s| {
                 let d = &self.disks[s];
-                grid.project(d.center, d.radius)
+                grid.project(d.center, d.radius, d.normal)
             })
             .collect();
         // Disks reaching the eye's plane are tested by every ray: past a few, the BVH is
