@@ -65,7 +65,7 @@ pub struct PinholeGrid {
 /// The disks of a [`DiskGeometry`] binned for one [`PinholeGrid`] (see the module docs).
 /// Memory: 16 bytes per (disk, tile it overlaps) and 4 bytes a tile; on the 1M-disk shell at
 /// 1280×720, 0.70 M entries (≈ 12 bytes a pixel). Binning holds 20 bytes a disk more until it
-/// returns; a tile's passes use about 60 KB of stack.
+/// returns, and up to 24 MB of per-chunk counts (parallel chunks of ≥ 2^17 disks); a tile's passes use about 60 KB of stack.
 pub struct PrimaryRaster<'g> {
     geometry: &'g DiskGeometry,
     grid: PinholeGrid,
@@ -206,7 +206,12 @@ impl DiskGeometry {
             .collect();
         // Disks reaching the eye's plane are tested by every ray: past a few, the BVH is
         // cheaper.
-        if projected.iter().filter(|p| matches!(p, Some(None))).count() > MAX_AT_EYE {
+        if projected
+            .par_iter()
+            .filter(|p| matches!(p, Some(None)))
+            .count()
+            > MAX_AT_EYE
+        {
             return None;
         }
         let tiles_x = grid.width.div_ceil(RASTER_TILE);
@@ -223,43 +228,7 @@ impl DiskGeometry {
             let (ty0, ty1) = (e.y0 as usize / RASTER_TILE, e.y1 as usize / RASTER_TILE);
             (ty0..=ty1).flat_map(move |ty| (tx0..=tx1).map(move |tx| ty * tiles_x + tx))
         };
-        // Counting sort into the tiles.
-        let mut starts = vec![0u32; tiles + 1];
-        for e in (0..n).filter_map(boxed) {
-            for t in tiles_of(&e) {
-                starts[t + 1] += 1;
-            }
-        }
-        for t in 0..tiles {
-            starts[t + 1] += starts[t];
-        }
-        let mut next = starts.clone();
-        let empty = Entry {
-            t_near: 0.0,
-            slot: 0,
-            x0: 0,
-            x1: 0,
-            y0: 0,
-            y1: 0,
-        };
-        let mut entries = vec![empty; starts[tiles] as usize];
-        for e in (0..n).filter_map(boxed) {
-            for t in tiles_of(&e) {
-                entries[next[t] as usize] = e;
-                next[t] += 1;
-            }
-        }
-        // Front to back within each tile (ties by slot: deterministic).
-        let mut rest = entries.as_mut_slice();
-        let mut bins = Vec::with_capacity(tiles);
-        for t in 0..tiles {
-            let (bin, tail) = rest.split_at_mut((starts[t + 1] - starts[t]) as usize);
-            bins.push(bin);
-            rest = tail;
-        }
-        bins.par_iter_mut().for_each(|bin| {
-            bin.sort_unstable_by(|a, b| a.t_near.total_cmp(&b.t_near).then(a.slot.cmp(&b.slot)))
-        });
+        let (starts, entries) = bin(n, tiles, &boxed, &tiles_of);
         Some(PrimaryRaster {
             geometry: self,
             grid: *grid,
@@ -348,4 +317,75 @@ impl PrimaryRaster<'_> {
         };
         trace(self.geometry, bin, &rays, |e| (span(e), span_y(e)), out);
     }
+}
+
+/// Disks binned in parallel chunks: each chunk counts its entries per tile, then writes them
+/// into its own slice of each tile's bin (chunk after chunk, so a bin stays in slot order
+/// before its sort); each bin sorted front to back (ties by slot: deterministic). Returns the
+/// bins' starts (one more than `tiles`) and the entries.
+fn bin<I: Iterator<Item = usize>>(
+    n: usize,
+    tiles: usize,
+    boxed: &(impl Fn(usize) -> Option<Entry> + Sync),
+    tiles_of: &(impl Fn(&Entry) -> I + Sync),
+) -> (Vec<u32>, Vec<Entry>) {
+    // At least 2^17 disks a chunk, and at most 2^20 (chunk, tile) pairs (24 bytes each).
+    let chunk = (1usize << 17).max(n.div_ceil(((1usize << 20) / tiles).max(1)));
+    let ranges: Vec<_> = (0..n.div_ceil(chunk))
+        .map(|k| k * chunk..((k + 1) * chunk).min(n))
+        .collect();
+    let counts: Vec<Vec<u32>> = ranges
+        .par_iter()
+        .map(|r| {
+            let mut c = vec![0u32; tiles];
+            for e in r.clone().filter_map(boxed) {
+                tiles_of(&e).for_each(|t| c[t] += 1);
+            }
+            c
+        })
+        .collect();
+    let mut starts = vec![0u32; tiles + 1];
+    for t in 0..tiles {
+        starts[t + 1] = starts[t] + counts.iter().map(|c| c[t]).sum::<u32>();
+    }
+    let empty = Entry {
+        t_near: 0.0,
+        slot: 0,
+        x0: 0,
+        x1: 0,
+        y0: 0,
+        y1: 0,
+    };
+    let mut entries = vec![empty; starts[tiles] as usize];
+    let mut rest = entries.as_mut_slice();
+    let mut parts: Vec<Vec<&mut [Entry]>> = ranges.iter().map(|_| Vec::new()).collect();
+    for t in 0..tiles {
+        for (part, c) in parts.iter_mut().zip(&counts) {
+            let (a, tail) = std::mem::take(&mut rest).split_at_mut(c[t] as usize);
+            part.push(a);
+            rest = tail;
+        }
+    }
+    parts.par_iter_mut().zip(&ranges).for_each(|(slices, r)| {
+        let mut cur = vec![0usize; tiles];
+        for e in r.clone().filter_map(boxed) {
+            for t in tiles_of(&e) {
+                slices[t][cur[t]] = e;
+                cur[t] += 1;
+            }
+        }
+    });
+    drop(parts);
+    let mut rest = entries.as_mut_slice();
+    let mut bins = Vec::with_capacity(tiles);
+    for t in 0..tiles {
+        let (bin, tail) =
+            std::mem::take(&mut rest).split_at_mut((starts[t + 1] - starts[t]) as usize);
+        bins.push(bin);
+        rest = tail;
+    }
+    bins.par_iter_mut().for_each(|bin| {
+        bin.sort_unstable_by(|a, b| a.t_near.total_cmp(&b.t_near).then(a.slot.cmp(&b.slot)))
+    });
+    (starts, entries)
 }
