@@ -2,8 +2,9 @@
 //! once per ray ([`DiskGeometry::primary_raster`]).
 //!
 //! Every camera ray starts at the eye, so the pixels whose rays can meet a disk are known in
-//! closed form: the box around the projection of the disk's bounding sphere. Each disk is
-//! projected once and binned into the image's 16×16 tiles, sorted front to back by the nearest
+//! closed form: the box around the projection of the disk's rim (an ellipse; the box of its
+//! bounding sphere's projection when the disk comes close to the eye's plane), grown for
+//! rounding. Each disk is projected once and binned into the image's 16×16 tiles, sorted front to back by the nearest
 //! distance of its sphere from the eye. A tile then runs two passes over its bin:
 //!
 //! 1. the closest disk hit of every pixel (a z-buffer of exact ray–disk tests, ties to the
@@ -64,7 +65,7 @@ pub struct PinholeGrid {
 /// The disks of a [`DiskGeometry`] binned for one [`PinholeGrid`] (see the module docs).
 /// Memory: 16 bytes per (disk, tile it overlaps) and 4 bytes a tile; on the 1M-disk shell at
 /// 1280×720, 0.70 M entries (≈ 12 bytes a pixel). Binning holds 20 bytes a disk more until it
-/// returns; a tile's passes use about 60 KB of stack.
+/// returns, and up to 24 MB of per-chunk counts (parallel chunks of ≥ 2^17 disks); a tile's passes use about 60 KB of stack.
 pub struct PrimaryRaster<'g> {
     geometry: &'g DiskGeometry,
     grid: PinholeGrid,
@@ -75,13 +76,14 @@ pub struct PrimaryRaster<'g> {
 }
 
 impl PinholeGrid {
-    /// The box of pixels whose rays can meet a sphere (`c`, `r`) and the nearest distance of
-    /// the sphere from the eye; `Some(None)` for a sphere reaching the eye's plane, `None` for
-    /// one that no ray of the grid can meet.
-    fn project(&self, c: Vec3, r: f32) -> Option<Option<Entry>> {
+    /// The box of pixels whose rays can meet the disk (`c`, `r`, unit normal `n`) and the
+    /// nearest distance of its bounding sphere from the eye; `Some(None)` for a sphere reaching
+    /// the eye's plane, `None` for a disk that no ray of the grid can meet.
+    fn project(&self, c: Vec3, r: f32, n: Vec3) -> Option<Option<Entry>> {
         let oc = (c - self.eye).as_dvec3();
         let dist = oc.length();
-        let r = r as f64 * (1.0 + GROW_REL) + GROW_ABS * dist;
+        let slab = GROW_ABS * dist;
+        let r = r as f64 * (1.0 + GROW_REL) + slab;
         let basis = |v: Vec3| oc.dot(v.as_dvec3());
         let (cx, cy, cz) = (basis(self.right), basis(self.up), basis(self.forward));
         if cz < -r || self.outside_frustum(cx, cy, cz, r) {
@@ -90,15 +92,33 @@ impl PinholeGrid {
         if cz <= 1.01 * r {
             return Some(None);
         }
-        // Tangent planes through the eye containing the up (right) axis: slopes u = x / z of
-        // the lines through the origin tangent to the circle (cx, cz, r), both roots of
-        // u² (cz² − r²) − 2 u cx cz + cx² − r² = 0.
-        let slopes = |a: f64| {
+        let nb = |v: Vec3| n.dot(v) as f64;
+        let (nx, ny, nz) = (nb(self.right), nb(self.up), nb(self.forward));
+        // The disk (grown radius r) thickened by a slab of half-width `slab` (the off-plane
+        // reach of an accepted hit's rounding): its support along m is at most
+        // √((r + slab)(r |m − (m·n) n|² + slab |m|²)) ((a + b)² ≤ (1 + k) a² + (1 + 1/k) b²,
+        // k = slab / r). The tangent planes through the eye containing the up (right) axis,
+        // m = (1, 0, −u): (cx − u cz)² = R r (1 + u² − (nx − u nz)²) + R slab (1 + u²) with
+        // R = r + slab, i.e. q u² − 2 b u + k = 0; q > 0 keeps the set in front of the eye's
+        // plane (else the sphere's box).
+        let (rr, ss) = ((r + slab) * r, (r + slab) * (r + slab));
+        let q = cz * cz - ss + rr * nz * nz;
+        let slopes = |a: f64, na: f64| {
+            let b = a * cz + rr * na * nz;
+            let k = a * a - ss + rr * na * na;
+            let s = (b * b - q * k).max(0.0).sqrt();
+            ((b - s) / q, (b + s) / q)
+        };
+        // The sphere's tangent planes: roots of u² (cz² − r²) − 2 u cx cz + cx² − r² = 0.
+        let sphere = |a: f64| {
             let (q, s) = (cz * cz - r * r, r * (a * a + cz * cz - r * r).sqrt());
             ((a * cz - s) / q, (a * cz + s) / q)
         };
-        let (u0, u1) = slopes(cx);
-        let (v0, v1) = slopes(cy);
+        let ((u0, u1), (v0, v1)) = if q > 0.03 * cz * cz {
+            (slopes(cx, nx), slopes(cy, ny))
+        } else {
+            (sphere(cx), sphere(cy))
+        };
         let (w, h) = (self.width as f64, self.height as f64);
         // Pixel coordinates of the ray's (u, v), inverted from the grid's definition.
         let px = |u: f64| (u / self.half_width as f64 + 1.0) * 0.5 * w - 0.5;
@@ -181,12 +201,17 @@ impl DiskGeometry {
             .with_min_len(4096)
             .map(|s| {
                 let d = &self.disks[s];
-                grid.project(d.center, d.radius)
+                grid.project(d.center, d.radius, d.normal)
             })
             .collect();
         // Disks reaching the eye's plane are tested by every ray: past a few, the BVH is
         // cheaper.
-        if projected.iter().filter(|p| matches!(p, Some(None))).count() > MAX_AT_EYE {
+        if projected
+            .par_iter()
+            .filter(|p| matches!(p, Some(None)))
+            .count()
+            > MAX_AT_EYE
+        {
             return None;
         }
         let tiles_x = grid.width.div_ceil(RASTER_TILE);
@@ -203,43 +228,7 @@ impl DiskGeometry {
             let (ty0, ty1) = (e.y0 as usize / RASTER_TILE, e.y1 as usize / RASTER_TILE);
             (ty0..=ty1).flat_map(move |ty| (tx0..=tx1).map(move |tx| ty * tiles_x + tx))
         };
-        // Counting sort into the tiles.
-        let mut starts = vec![0u32; tiles + 1];
-        for e in (0..n).filter_map(boxed) {
-            for t in tiles_of(&e) {
-                starts[t + 1] += 1;
-            }
-        }
-        for t in 0..tiles {
-            starts[t + 1] += starts[t];
-        }
-        let mut next = starts.clone();
-        let empty = Entry {
-            t_near: 0.0,
-            slot: 0,
-            x0: 0,
-            x1: 0,
-            y0: 0,
-            y1: 0,
-        };
-        let mut entries = vec![empty; starts[tiles] as usize];
-        for e in (0..n).filter_map(boxed) {
-            for t in tiles_of(&e) {
-                entries[next[t] as usize] = e;
-                next[t] += 1;
-            }
-        }
-        // Front to back within each tile (ties by slot: deterministic).
-        let mut rest = entries.as_mut_slice();
-        let mut bins = Vec::with_capacity(tiles);
-        for t in 0..tiles {
-            let (bin, tail) = rest.split_at_mut((starts[t + 1] - starts[t]) as usize);
-            bins.push(bin);
-            rest = tail;
-        }
-        bins.par_iter_mut().for_each(|bin| {
-            bin.sort_unstable_by(|a, b| a.t_near.total_cmp(&b.t_near).then(a.slot.cmp(&b.slot)))
-        });
+        let (starts, entries) = bin(n, tiles, &boxed, &tiles_of);
         Some(PrimaryRaster {
             geometry: self,
             grid: *grid,
@@ -328,4 +317,75 @@ impl PrimaryRaster<'_> {
         };
         trace(self.geometry, bin, &rays, |e| (span(e), span_y(e)), out);
     }
+}
+
+/// Disks binned in parallel chunks: each chunk counts its entries per tile, then writes them
+/// into its own slice of each tile's bin (chunk after chunk, so a bin stays in slot order
+/// before its sort); each bin sorted front to back (ties by slot: deterministic). Returns the
+/// bins' starts (one more than `tiles`) and the entries.
+fn bin<I: Iterator<Item = usize>>(
+    n: usize,
+    tiles: usize,
+    boxed: &(impl Fn(usize) -> Option<Entry> + Sync),
+    tiles_of: &(impl Fn(&Entry) -> I + Sync),
+) -> (Vec<u32>, Vec<Entry>) {
+    // At least 2^17 disks a chunk, and at most 2^20 (chunk, tile) pairs (24 bytes each).
+    let chunk = (1usize << 17).max(n.div_ceil(((1usize << 20) / tiles).max(1)));
+    let ranges: Vec<_> = (0..n.div_ceil(chunk))
+        .map(|k| k * chunk..((k + 1) * chunk).min(n))
+        .collect();
+    let counts: Vec<Vec<u32>> = ranges
+        .par_iter()
+        .map(|r| {
+            let mut c = vec![0u32; tiles];
+            for e in r.clone().filter_map(boxed) {
+                tiles_of(&e).for_each(|t| c[t] += 1);
+            }
+            c
+        })
+        .collect();
+    let mut starts = vec![0u32; tiles + 1];
+    for t in 0..tiles {
+        starts[t + 1] = starts[t] + counts.iter().map(|c| c[t]).sum::<u32>();
+    }
+    let empty = Entry {
+        t_near: 0.0,
+        slot: 0,
+        x0: 0,
+        x1: 0,
+        y0: 0,
+        y1: 0,
+    };
+    let mut entries = vec![empty; starts[tiles] as usize];
+    let mut rest = entries.as_mut_slice();
+    let mut parts: Vec<Vec<&mut [Entry]>> = ranges.iter().map(|_| Vec::new()).collect();
+    for t in 0..tiles {
+        for (part, c) in parts.iter_mut().zip(&counts) {
+            let (a, tail) = std::mem::take(&mut rest).split_at_mut(c[t] as usize);
+            part.push(a);
+            rest = tail;
+        }
+    }
+    parts.par_iter_mut().zip(&ranges).for_each(|(slices, r)| {
+        let mut cur = vec![0usize; tiles];
+        for e in r.clone().filter_map(boxed) {
+            for t in tiles_of(&e) {
+                slices[t][cur[t]] = e;
+                cur[t] += 1;
+            }
+        }
+    });
+    drop(parts);
+    let mut rest = entries.as_mut_slice();
+    let mut bins = Vec::with_capacity(tiles);
+    for t in 0..tiles {
+        let (bin, tail) =
+            std::mem::take(&mut rest).split_at_mut((starts[t + 1] - starts[t]) as usize);
+        bins.push(bin);
+        rest = tail;
+    }
+    bins.par_iter_mut().for_each(|bin| {
+        bin.sort_unstable_by(|a, b| a.t_near.total_cmp(&b.t_near).then(a.slot.cmp(&b.slot)))
+    });
+    (starts, entries)
 }
