@@ -15,8 +15,11 @@ use filmsplat::pipeline::Prepared;
 use filmsplat::pipeline::pinholes::{film_particles, front_layer_in_data};
 use filmsplat::pointcloud::span::FilmSpan;
 use filmsplat::scene::SceneDesc;
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+
+#[path = "../tests/pieces/mod.rs"]
+mod pieces;
+use pieces::{data_mask, pieces};
 
 /// Pieces of fewer pixels are not counted.
 const LEAST: usize = 8;
@@ -60,22 +63,6 @@ fn main() {
     }
 }
 
-/// Whether each pixel's primary ray crosses the film the particles hold.
-fn data_mask(prepared: &Prepared, span: &FilmSpan) -> Vec<bool> {
-    let (w, h) = (prepared.shot.settings.width, prepared.shot.settings.height);
-    (0..w * h)
-        .into_par_iter()
-        .map(|k| {
-            let (sx, sy) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
-            let ray = prepared
-                .shot
-                .camera
-                .ray(sx / w as f32, sy / h as f32, w as f32 / h as f32);
-            span.crosses(ray.origin, ray.dir, f32::INFINITY)
-        })
-        .collect()
-}
-
 /// The render's bare pieces of the film `data` marks (count, pixels) and its pinhole figure.
 fn bare_and_pinholes(prepared: &Prepared, span: &FilmSpan, data: &[bool]) -> (usize, usize, f64) {
     let out = pipeline::render(prepared, &prepared.shot).expect("render");
@@ -88,36 +75,4 @@ fn bare_and_pinholes(prepared: &Prepared, span: &FilmSpan, data: &[bool]) -> (us
         .collect();
     let pinholes = front_layer_in_data(prepared, &out, span).percent();
     (bare.len(), bare.iter().sum(), pinholes)
-}
-
-/// The 4-connected pieces of `mask` (row-major, `w` wide), as pixel lists.
-fn pieces(mask: &[bool], w: usize) -> Vec<Vec<usize>> {
-    let h = mask.len() / w;
-    let mut seen = vec![false; mask.len()];
-    let mut all = Vec::new();
-    for start in 0..mask.len() {
-        if !mask[start] || seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        let (mut stack, mut piece) = (vec![start], Vec::new());
-        while let Some(k) = stack.pop() {
-            piece.push(k);
-            let (x, y) = (k % w, k / w);
-            let near = [
-                (x > 0).then(|| k - 1),
-                (x + 1 < w).then(|| k + 1),
-                (y > 0).then(|| k - w),
-                (y + 1 < h).then(|| k + w),
-            ];
-            for n in near.into_iter().flatten() {
-                if mask[n] && !seen[n] {
-                    seen[n] = true;
-                    stack.push(n);
-                }
-            }
-        }
-        all.push(piece);
-    }
-    all
 }

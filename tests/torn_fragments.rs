@@ -14,6 +14,8 @@ use filmsplat::pointcloud::span::FilmSpan;
 use filmsplat::scene::SceneDesc;
 use glam::Vec3;
 
+mod pieces;
+
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
@@ -178,47 +180,12 @@ fn data_pieces(desc: &SceneDesc, least: usize) -> Vec<(usize, usize)> {
     let span = FilmSpan::new(&positions, &normals).with_own_radii(own);
     let prepared = pipeline::prepare(desc, Path::new(""), false).unwrap();
     let out = pipeline::render(&prepared, &prepared.shot).unwrap();
-    let (w, h) = (prepared.shot.settings.width, prepared.shot.settings.height);
-    let data: Vec<bool> = (0..w * h)
-        .map(|k| {
-            let (sx, sy) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
-            let ray = prepared
-                .shot
-                .camera
-                .ray(sx / w as f32, sy / h as f32, w as f32 / h as f32);
-            span.crosses(ray.origin, ray.dir, f32::INFINITY)
-        })
-        .collect();
-    let mut seen = vec![false; w * h];
-    let mut pieces = Vec::new();
-    for start in 0..w * h {
-        if !data[start] || seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        let (mut stack, mut size, mut drawn) = (vec![start], 0, 0);
-        while let Some(k) = stack.pop() {
-            size += 1;
-            drawn += usize::from(out.depth[k] > 0.0);
-            let (x, y) = (k % w, k / w);
-            let near = [
-                (x > 0).then(|| k - 1),
-                (x + 1 < w).then(|| k + 1),
-                (y > 0).then(|| k - w),
-                (y + 1 < h).then(|| k + w),
-            ];
-            for n in near.into_iter().flatten() {
-                if data[n] && !seen[n] {
-                    seen[n] = true;
-                    stack.push(n);
-                }
-            }
-        }
-        if size >= least {
-            pieces.push((size, drawn));
-        }
-    }
-    pieces
+    let data = pieces::data_mask(&prepared, &span);
+    pieces::pieces(&data, prepared.shot.settings.width)
+        .into_iter()
+        .filter(|p| p.len() >= least)
+        .map(|p| (p.len(), p.iter().filter(|&&k| out.depth[k] > 0.0).count()))
+        .collect()
 }
 
 #[test]
