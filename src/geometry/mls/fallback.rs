@@ -417,17 +417,8 @@ mod tests {
         // A closed sphere of 4000 particles, own radii the area each holds: the surface covers
         // every disk, so no disk is kept and the ray queries are the surface's alone.
         let count = 4000;
-        let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
-        let p: Vec<Vec3> = (0..count)
-            .map(|i| {
-                let z = 1.0 - (2 * i + 1) as f32 / count as f32;
-                let (rr, a) = ((1.0 - z * z).sqrt(), golden * i as f32);
-                Vec3::new(rr * a.cos(), rr * a.sin(), z)
-            })
-            .collect();
         let own = (4.0 / count as f32).sqrt(); // √(A/π), A = 4π / count
-        let d = (8.0 * std::f32::consts::PI / (3f32.sqrt() * count as f32)).sqrt();
-        let mut s = MlsSurface::build(&p, &p, &vec![0.92 * d; count], &vec![100.0; count]).unwrap();
+        let (_, _, mut s) = super::super::unit_sphere_surface(count);
         s.set_own_disks(&vec![own; count], None).unwrap();
         assert_eq!(s.own_disk_count(), 0);
     }

@@ -334,6 +334,23 @@ impl MlsSurface {
     }
 }
 
+/// A closed unit sphere of `n` particles on a Fibonacci lattice (normals outward, radii 0.92 ×
+/// the lattice's hexagonal spacing d, 100 nm), its positions and d: the tests' closed film.
+#[cfg(test)]
+pub(super) fn unit_sphere_surface(n: usize) -> (Vec<Vec3>, f32, MlsSurface) {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let pos: Vec<Vec3> = (0..n)
+        .map(|i| {
+            let z = 1.0 - (2 * i + 1) as f32 / n as f32;
+            let (rr, a) = ((1.0 - z * z).sqrt(), golden * i as f32);
+            Vec3::new(rr * a.cos(), rr * a.sin(), z)
+        })
+        .collect();
+    let d = (8.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
+    let s = MlsSurface::build(&pos, &pos, &vec![0.92 * d; n], &vec![100.0; n]).unwrap();
+    (pos, d, s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

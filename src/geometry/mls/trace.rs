@@ -418,16 +418,7 @@ mod tests {
     #[test]
     fn grazing_check_finds_a_dip_between_samples() {
         let n = 4000;
-        let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
-        let pos: Vec<Vec3> = (0..n)
-            .map(|i| {
-                let z = 1.0 - (2 * i + 1) as f32 / n as f32;
-                let (rr, a) = ((1.0 - z * z).sqrt(), golden * i as f32);
-                Vec3::new(rr * a.cos(), rr * a.sin(), z)
-            })
-            .collect();
-        let d = (8.0 * std::f32::consts::PI / (3f32.sqrt() * n as f32)).sqrt();
-        let s = MlsSurface::build(&pos, &pos, &vec![0.92 * d; n], &vec![100.0; n]).unwrap();
+        let (_, d, s) = super::super::unit_sphere_surface(n);
         // Step the ray y = ρ, z = 0.2 outwards until it dips into the surface for 0.2–1 d.
         let f_of = |_ray: &Ray, cands: &[Cand], t: f32| field::value_on_ray(cands, t);
         let mut cands = Vec::new();
