@@ -51,9 +51,8 @@ pub struct RenderOutput {
     pub rays: u64,
 }
 
-const TILE: usize = 16;
-// The camera rays' raster answers whole render tiles.
-const _: () = assert!(TILE == crate::geometry::RASTER_TILE);
+/// Render tiles are the camera rays' raster tiles (16×16), which it answers whole.
+const TILE: usize = crate::geometry::RASTER_TILE;
 
 /// Renders `scene` (a `&World`, or a [`WorldRef`] of borrowed parts) with `shader` and
 /// `settings`. Deterministic for a given seed. Reads the scene only: renders of one scene with
